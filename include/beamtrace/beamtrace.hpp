@@ -1,0 +1,8 @@
+#pragma once
+// The whole public API.
+#include "beamtrace/error.hpp"
+#include "beamtrace/kdtree.hpp"
+#include "beamtrace/ray.hpp"
+#include "beamtrace/scene.hpp"
+#include "beamtrace/stats.hpp"
+#include "beamtrace/vec.hpp"

@@ -1,0 +1,63 @@
+#pragma once
+// Rays, 4x4 ray packets and hits.
+#include <cstdint>
+#include <limits>
+
+#include "beamtrace/vec.hpp"
+
+namespace beamtrace {
+
+// Triangle id of "no hit".
+inline constexpr std::uint32_t kNoHit = 0xFFFFFFFFu;
+inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// One ray: points org + t * dir for tnear <= t <= tfar. dir need not be normalised (t is measured in
+// units of |dir|) but must not be the zero vector.
+struct Ray {
+    Float3 org;
+    float tnear = 0.0f;
+    Float3 dir;
+    float tfar = kInfinity;
+};
+
+// Closest hit. Barycentrics follow Embree: the hit point is (1-u-v)*v0 + u*v1 + v*v2.
+struct Hit {
+    float t = kInfinity;
+    std::uint32_t triangle = kNoHit;
+    float u = 0.0f;
+    float v = 0.0f;
+
+    bool hit() const { return triangle != kNoHit; }
+};
+
+// 16 rays as a 4x4 tile (ray i = row * 4 + column), structure of arrays, 64-byte aligned: one
+// AVX-512 register, two AVX2 or four SSE registers per component. Rays whose bit is clear in
+// `active` are ignored by every query and report no hit.
+struct alignas(64) Packet16 {
+    static constexpr int kSize = 16;
+    float org_x[16], org_y[16], org_z[16];
+    float dir_x[16], dir_y[16], dir_z[16];
+    float tnear[16], tfar[16];
+    std::uint32_t active = 0;  // bit i set: ray i takes part
+
+    Ray ray(int i) const {
+        return Ray{{org_x[i], org_y[i], org_z[i]}, tnear[i], {dir_x[i], dir_y[i], dir_z[i]}, tfar[i]};
+    }
+    void set_ray(int i, const Ray& r) {
+        org_x[i] = r.org.x; org_y[i] = r.org.y; org_z[i] = r.org.z;
+        dir_x[i] = r.dir.x; dir_y[i] = r.dir.y; dir_z[i] = r.dir.z;
+        tnear[i] = r.tnear; tfar[i] = r.tfar;
+    }
+};
+
+// Closest hits of a Packet16, structure of arrays.
+struct alignas(64) PacketHits16 {
+    float t[16];
+    std::uint32_t triangle[16];
+    float u[16], v[16];
+
+    Hit hit(int i) const { return Hit{t[i], triangle[i], u[i], v[i]}; }
+    void set_hit(int i, const Hit& h) { t[i] = h.t; triangle[i] = h.triangle; u[i] = h.u; v[i] = h.v; }
+};
+
+}  // namespace beamtrace

@@ -1,0 +1,45 @@
+#pragma once
+// SIMD watertight ray/triangle kernels, chosen at run time (SSE4.2 / AVX2 / AVX-512), each returning
+// per lane exactly what intersect_triangle() (the scalar reference) returns.
+#include <cstdint>
+
+#include "beamtrace/scene.hpp"
+#include "common/isa.hpp"
+#include "common/watertight_ray.hpp"
+
+namespace beamtrace {
+
+// Per-lane results: bit i of mask set = lane i hit, with t[i], u[i], v[i].
+struct alignas(64) LaneHits {
+    float t[16], u[16], v[16];
+    std::uint32_t mask = 0;
+};
+
+struct TriangleKernels {
+    Isa isa;
+    // One ray against n triangles (lane i tests tris[i]); n <= 4 for ray_x4, n <= 8 for ray_x8.
+    void (*ray_x4)(const WatertightRay& ray, const Triangle* const* tris, int n, LaneHits& out);
+    void (*ray_x8)(const WatertightRay& ray, const Triangle* const* tris, int n, LaneHits& out);
+    // The 16 rays of a packet against one triangle; inactive rays never hit.
+    void (*packet_x1)(const WatertightPacket16& rays, const Triangle& tri, LaneHits& out);
+};
+
+// The kernels of one instruction set (which must be available), or of the best one.
+const TriangleKernels& triangle_kernels(Isa isa);
+inline const TriangleKernels& triangle_kernels() { return triangle_kernels(best_isa()); }
+
+// Per-ISA entry points, defined in the triangle_kernels_<isa>.cpp units.
+namespace kernels_sse42 {
+void ray_x4(const WatertightRay&, const Triangle* const*, int, LaneHits&);
+void ray_x8(const WatertightRay&, const Triangle* const*, int, LaneHits&);
+void packet_x1(const WatertightPacket16&, const Triangle&, LaneHits&);
+}  // namespace kernels_sse42
+namespace kernels_avx2 {
+void ray_x8(const WatertightRay&, const Triangle* const*, int, LaneHits&);
+void packet_x1(const WatertightPacket16&, const Triangle&, LaneHits&);
+}  // namespace kernels_avx2
+namespace kernels_avx512 {
+void packet_x1(const WatertightPacket16&, const Triangle&, LaneHits&);
+}  // namespace kernels_avx512
+
+}  // namespace beamtrace

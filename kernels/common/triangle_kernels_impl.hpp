@@ -1,0 +1,130 @@
+#pragma once
+// The watertight test written once over xsimd batches; included only by the per-ISA units, each of
+// which instantiates it for its own architecture and supplies lane_bits() for it.
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+#include "common/triangle_kernels.hpp"
+#include "common/triangle_reference.hpp"
+
+namespace beamtrace::simd {
+
+// Bit i set for each true lane; specialised by each per-ISA unit.
+template <class Arch>
+std::uint32_t lane_bits(const xsimd::batch_bool<float, Arch>& m);
+
+// Triangle corners relative to the ray origin, already permuted to (kx, ky, kz) per lane.
+template <class Arch>
+struct Corners {
+    using B = xsimd::batch<float, Arch>;
+    B ax, ay, az, bx, by, bz, cx, cy, cz;
+};
+
+// The shared core: shear, edge functions (with the double-precision fallback on lanes where one is
+// exactly zero), sign test, determinant and distance. Writes t, u, v of hitting lanes into out at
+// lane offset `base` and returns their bits (relative to base).
+template <class Arch>
+std::uint32_t watertight_core(const Corners<Arch>& k, const xsimd::batch<float, Arch>& sx,
+                              const xsimd::batch<float, Arch>& sy, const xsimd::batch<float, Arch>& sz,
+                              const xsimd::batch<float, Arch>& tnear, const xsimd::batch<float, Arch>& tfar,
+                              std::uint32_t valid_bits, LaneHits& out, int base) {
+    using B = xsimd::batch<float, Arch>;
+    constexpr int W = int(B::size);
+    const B zero(0.0f);
+    const B ax = k.ax - sx * k.az, ay = k.ay - sy * k.az;
+    const B bx = k.bx - sx * k.bz, by = k.by - sy * k.bz;
+    const B cx = k.cx - sx * k.cz, cy = k.cy - sy * k.cz;
+    B u = cx * by - cy * bx;
+    B v = ax * cy - ay * cx;
+    B w = bx * ay - by * ax;
+    if (lane_bits<Arch>((u == zero) | (v == zero) | (w == zero)) & valid_bits) {
+        alignas(64) float su[W], sv[W], sw[W], fax[W], fay[W], fbx[W], fby[W], fcx[W], fcy[W];
+        u.store_aligned(su); v.store_aligned(sv); w.store_aligned(sw);
+        ax.store_aligned(fax); ay.store_aligned(fay); bx.store_aligned(fbx);
+        by.store_aligned(fby); cx.store_aligned(fcx); cy.store_aligned(fcy);
+        for (int i = 0; i < W; ++i) {
+            if (su[i] == 0.0f || sv[i] == 0.0f || sw[i] == 0.0f)
+                watertight_edges_double(fax[i], fay[i], fbx[i], fby[i], fcx[i], fcy[i], su[i], sv[i], sw[i]);
+        }
+        u = B::load_aligned(su); v = B::load_aligned(sv); w = B::load_aligned(sw);
+    }
+    const auto negative = (u < zero) | (v < zero) | (w < zero);
+    const auto positive = (u > zero) | (v > zero) | (w > zero);
+    const B det = (u + v) + w;
+    const B t_scaled = (u * (sz * k.az) + v * (sz * k.bz)) + w * (sz * k.cz);
+    const B rcp = B(1.0f) / det;
+    const B t = t_scaled * rcp;
+    const auto inside = ~(negative & positive) & (det != zero) & (t >= tnear) & (t <= tfar) &
+                        (t < B(kInfinity));
+    const std::uint32_t bits = lane_bits<Arch>(inside) & valid_bits;
+    if (bits != 0) {
+        t.store_aligned(out.t + base);
+        (v * rcp).store_aligned(out.u + base);
+        (w * rcp).store_aligned(out.v + base);
+    }
+    return bits;
+}
+
+// One ray against up to W triangles (lane i = tris[i]).
+template <class Arch>
+void ray_xw(const WatertightRay& r, const Triangle* const* tris, int n, LaneHits& out, int base) {
+    using B = xsimd::batch<float, Arch>;
+    constexpr int W = int(B::size);
+    alignas(64) float comp[9][W];
+    for (int i = 0; i < W; ++i) {
+        const Triangle& tri = *tris[i < n ? i : 0];
+        const float* f = &tri.v0.x;
+        for (int c = 0; c < 9; ++c) comp[c][i] = f[c];
+    }
+    const float* o = &r.org.x;
+    const B okx(o[r.kx]), oky(o[r.ky]), okz(o[r.kz]);
+    Corners<Arch> k;
+    k.ax = B::load_aligned(comp[0 + r.kx]) - okx; k.ay = B::load_aligned(comp[0 + r.ky]) - oky;
+    k.az = B::load_aligned(comp[0 + r.kz]) - okz;
+    k.bx = B::load_aligned(comp[3 + r.kx]) - okx; k.by = B::load_aligned(comp[3 + r.ky]) - oky;
+    k.bz = B::load_aligned(comp[3 + r.kz]) - okz;
+    k.cx = B::load_aligned(comp[6 + r.kx]) - okx; k.cy = B::load_aligned(comp[6 + r.ky]) - oky;
+    k.cz = B::load_aligned(comp[6 + r.kz]) - okz;
+    const std::uint32_t valid = (n >= W) ? ((1u << W) - 1u) : ((1u << n) - 1u);
+    out.mask |= watertight_core<Arch>(k, B(r.sx), B(r.sy), B(r.sz), B(r.tnear), B(r.tfar), valid, out, base)
+                << base;
+}
+
+// Lanes [base, base + W) of a packet against one triangle.
+template <class Arch>
+void packet_xw(const WatertightPacket16& p, const Triangle& tri, LaneHits& out, int base) {
+    using B = xsimd::batch<float, Arch>;
+    constexpr int W = int(B::size);
+    const std::uint32_t valid = (p.active >> base) & ((1u << W) - 1u);
+    if (valid == 0) return;
+    const B kx = B::load_aligned(p.kx + base), ky = B::load_aligned(p.ky + base),
+            kz = B::load_aligned(p.kz + base);
+    const B ox = B::load_aligned(p.org_x + base), oy = B::load_aligned(p.org_y + base),
+            oz = B::load_aligned(p.org_z + base);
+    const B one(1.0f), zero(0.0f);
+    // Picks component k (0, 1, 2) of (x, y, z) per lane; values are moved, never rounded.
+    auto pick = [&](const B& k, const B& x, const B& y, const B& z) {
+        return xsimd::select(k == zero, x, xsimd::select(k == one, y, z));
+    };
+    const B ax = B(tri.v0.x) - ox, ay = B(tri.v0.y) - oy, az = B(tri.v0.z) - oz;
+    const B bx = B(tri.v1.x) - ox, by = B(tri.v1.y) - oy, bz = B(tri.v1.z) - oz;
+    const B cx = B(tri.v2.x) - ox, cy = B(tri.v2.y) - oy, cz = B(tri.v2.z) - oz;
+    Corners<Arch> k;
+    k.ax = pick(kx, ax, ay, az); k.ay = pick(ky, ax, ay, az); k.az = pick(kz, ax, ay, az);
+    k.bx = pick(kx, bx, by, bz); k.by = pick(ky, bx, by, bz); k.bz = pick(kz, bx, by, bz);
+    k.cx = pick(kx, cx, cy, cz); k.cy = pick(ky, cx, cy, cz); k.cz = pick(kz, cx, cy, cz);
+    out.mask |= watertight_core<Arch>(k, B::load_aligned(p.sx + base), B::load_aligned(p.sy + base),
+                                      B::load_aligned(p.sz + base), B::load_aligned(p.tnear + base),
+                                      B::load_aligned(p.tfar + base), valid, out, base)
+                << base;
+}
+
+template <class Arch>
+void packet_x1(const WatertightPacket16& p, const Triangle& tri, LaneHits& out) {
+    constexpr int W = int(xsimd::batch<float, Arch>::size);
+    out.mask = 0;
+    for (int base = 0; base < 16; base += W) packet_xw<Arch>(p, tri, out, base);
+}
+
+}  // namespace beamtrace::simd
