@@ -1,0 +1,135 @@
+// Single-ray kd-tree traversal: front to back with a stack of (node, t_min, t_max), early exit as
+// soon as the closest hit lies inside the current cell. Counting is a template parameter, so the
+// measured path and the counted path are the same code.
+#include <cmath>
+
+#include "common/triangle_reference.hpp"
+#include "kdtree/kd_node.hpp"
+
+namespace beamtrace {
+namespace {
+
+constexpr int kStackSize = 64;
+
+struct StackEntry {
+    std::uint32_t node;
+    float tmin, tmax;
+};
+
+// Clips [ray.tnear, ray.tfar] to the box; false if the ray misses it.
+bool clip_to_box(const Ray& ray, const Float3& inv, const Box& box, float& tmin, float& tmax) {
+    tmin = ray.tnear;
+    tmax = ray.tfar;
+    for (int k = 0; k < 3; ++k) {
+        if (ray.dir[k] == 0.0f) {
+            if (ray.org[k] < box.lower[k] || ray.org[k] > box.upper[k]) return false;
+            continue;
+        }
+        float t0 = (box.lower[k] - ray.org[k]) * inv[k];
+        float t1 = (box.upper[k] - ray.org[k]) * inv[k];
+        if (t0 > t1) std::swap(t0, t1);
+        tmin = t0 > tmin ? t0 : tmin;
+        tmax = t1 < tmax ? t1 : tmax;
+    }
+    return tmin <= tmax;
+}
+
+template <bool kOcclusion, bool kCount>
+Hit traverse(const KdTree::Impl& tree, const Ray& ray, TraversalCounters* counters) {
+    Hit best;
+    if constexpr (kCount) ++counters->rays;
+    const Float3 inv{1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};
+    float tmin, tmax;
+    if (!clip_to_box(ray, inv, tree.bounds, tmin, tmax)) return best;
+
+    WatertightRay wray = make_watertight_ray(ray);
+    const KdNode* nodes = tree.nodes.data();
+    const std::uint32_t* ids = tree.triangle_ids.data();
+    const Triangle* tris = tree.scene.triangles().data();
+    const TriangleKernels& kernels = *tree.kernels;
+
+    StackEntry stack[kStackSize];
+    int top = 0;
+    bool in_plane = false;  // some stacked cell repeats the current interval (see below)
+    std::uint32_t index = 0;
+    for (;;) {
+        const KdNode& node = nodes[index];
+        if (!node.is_leaf()) {
+            if constexpr (kCount) ++counters->inner_steps;
+            const int axis = node.axis();
+            const float o = ray.org[axis], d = ray.dir[axis];
+            const float tplane = (node.split - o) * inv[axis];
+            // A ray starting exactly in the plane visits the cell behind it first, with the interval
+            // [tmin, 0], so that hits at t = 0 on triangles kept on that side are found.
+            const bool lower_first = o < node.split || (o == node.split && d > 0.0f);
+            const std::uint32_t first = lower_first ? index + 1 : node.upper_child();
+            const std::uint32_t second = lower_first ? node.upper_child() : index + 1;
+            if (tplane != tplane) {  // the ray lies in the split plane: both children, same interval
+                stack[top++] = StackEntry{second, tmin, tmax};
+                index = first;
+                in_plane = true;
+            } else if (tplane > tmax || tplane < 0.0f) {
+                index = first;
+            } else if (tplane < tmin) {
+                index = second;
+            } else {
+                stack[top++] = StackEntry{second, tplane, tmax};
+                index = first;
+                tmax = tplane;
+            }
+            continue;
+        }
+        // Leaf: test its triangles, 8 (or 4) at a time.
+        const std::uint32_t count = node.triangle_count();
+        const std::uint32_t* leaf = ids + node.offset();
+        if constexpr (kCount) {
+            ++counters->leaves;
+            counters->triangle_tests += count;
+        }
+        for (std::uint32_t j = 0; j < count; j += 8) {
+            const int n = int(count - j < 8 ? count - j : 8);
+            const Triangle* batch[8];
+            for (int i = 0; i < n; ++i) batch[i] = tris + leaf[j + i];
+            LaneHits lanes;
+            if (n <= 4) kernels.ray_x4(wray, batch, n, lanes);
+            else kernels.ray_x8(wray, batch, n, lanes);
+            if constexpr (kOcclusion) {
+                if (lanes.mask) {
+                    best.triangle = leaf[j];
+                    return best;
+                }
+            } else {
+                for (std::uint32_t m = lanes.mask; m; m &= m - 1) {
+                    const int i = __builtin_ctz(m);
+                    if (lanes.t[i] < best.t) {
+                        best = Hit{lanes.t[i], leaf[j + i], lanes.u[i], lanes.v[i]};
+                        wray.tfar = lanes.t[i];
+                    }
+                }
+            }
+        }
+        if (!kOcclusion && !in_plane && best.t <= tmax) return best;  // nothing nearer is left
+        // Next cell from the stack, skipping cells that start beyond the closest hit. (The stack is
+        // not sorted by tmin: a ray lying in a split plane pushes a cell with the current interval.)
+        for (;;) {
+            if (top == 0) return best;
+            const StackEntry& e = stack[--top];
+            if (!kOcclusion && e.tmin > best.t) continue;
+            index = e.node;
+            tmin = e.tmin;
+            tmax = e.tmax;
+            break;
+        }
+    }
+}
+
+}  // namespace
+
+Hit KdTree::intersect(const Ray& ray) const { return traverse<false, false>(*impl_, ray, nullptr); }
+bool KdTree::occluded(const Ray& ray) const { return traverse<true, false>(*impl_, ray, nullptr).hit(); }
+Hit KdTree::intersect(const Ray& ray, TraversalCounters& c) const { return traverse<false, true>(*impl_, ray, &c); }
+bool KdTree::occluded(const Ray& ray, TraversalCounters& c) const {
+    return traverse<true, true>(*impl_, ray, &c).hit();
+}
+
+}  // namespace beamtrace

@@ -1,0 +1,36 @@
+#pragma once
+// Split candidates of the O(N log N) SAH build (Wald & Havran 2006): per axis, the start, end and
+// planar events of each triangle's clipped box, sorted by position then type.
+#include <cstdint>
+#include <vector>
+
+#include "beamtrace/scene.hpp"
+
+namespace beamtrace::kd {
+
+enum EventType : std::uint8_t { kEnd = 0, kPlanar = 1, kStart = 2 };
+
+struct SplitEvent {
+    float pos;
+    std::uint32_t tri;
+    std::uint8_t type;
+
+    friend bool operator<(const SplitEvent& a, const SplitEvent& b) {
+        return a.pos < b.pos || (a.pos == b.pos && a.type < b.type);
+    }
+};
+
+using AxisEvents = std::vector<SplitEvent>;
+
+// Box of the part of `tri` inside `cell`, computed in double precision against the cell grown by
+// `slack` and rounded outwards, then limited to `cell`: never smaller than the exact part, so no
+// ray can miss the triangle because of clipping. Empty if the triangle stays out of the grown cell.
+Box clipped_bounds(const Triangle& tri, const Box& cell, double slack);
+
+// Appends the events of one triangle with box b (already inside the cell) to the three axes.
+void append_events(std::uint32_t tri, const Box& b, AxisEvents (&events)[3]);
+
+// Area of the part of a triangle lying in the plane axis = pos that falls inside the cell's face.
+double clipped_planar_area(const Triangle& tri, const Box& cell, int axis);
+
+}  // namespace beamtrace::kd
