@@ -32,7 +32,7 @@ struct SplitChoice {
 
 std::size_t triangles_in(const AxisEvents& events) {
     std::size_t n = 0;
-    for (const SplitEvent& e : events) n += e.type != kEnd;
+    for (const SplitEvent& e : events) n += e.type() != kEnd;
     return n;
 }
 
@@ -43,6 +43,8 @@ public:
 
     void run() {
         const std::size_t count = scene_.triangle_count();
+        if (count > kd::SplitEvent::kMaxTriangle)
+            throw Error("kd-tree: " + std::to_string(count) + " triangles exceed the tree's limit of 2^30");
         out_.bounds = scene_.bounds();
         const Box& b = out_.bounds;
         double scale = b.diagonal();
@@ -134,27 +136,27 @@ private:
             const float lo = box.lower[k], hi = box.upper[k];
             if (!(hi > lo)) continue;  // flat along k: no plane splits it
             const int u = (k + 1) % 3, v = (k + 2) % 3;
-            const double cross_section = double(box.upper[u] - box.lower[u]) * double(box.upper[v] - box.lower[v]);
+            const float eu = box.upper[u] - box.lower[u], ev_ = box.upper[v] - box.lower[v];
+            const double cross_section = double(eu) * double(ev_);
+            // Child areas relative to the parent's: length along k times a, plus b.
+            const float a = 2.0f * (eu + ev_) / area, b = 2.0f * eu * ev_ / area;
             const AxisEvents& ev = events[k];
             std::size_t nl = 0, nr = n;
             std::size_t i = 0;
             while (i < ev.size()) {
                 const float p = ev[i].pos;
                 std::size_t ends = 0, planars = 0, starts = 0;
-                while (i < ev.size() && ev[i].pos == p && ev[i].type == kEnd) ++ends, ++i;
+                while (i < ev.size() && ev[i].pos == p && ev[i].type() == kEnd) ++ends, ++i;
                 const std::size_t planar_begin = i;
-                while (i < ev.size() && ev[i].pos == p && ev[i].type == kPlanar) ++planars, ++i;
+                while (i < ev.size() && ev[i].pos == p && ev[i].type() == kPlanar) ++planars, ++i;
                 const std::size_t planar_end = i;
-                while (i < ev.size() && ev[i].pos == p && ev[i].type == kStart) ++starts, ++i;
+                while (i < ev.size() && ev[i].pos == p && ev[i].type() == kStart) ++starts, ++i;
                 const std::size_t np = planars;
                 nr -= planars + ends;
 
                 const bool at_lower = !(p > lo), at_upper = !(p < hi);
                 if (!(at_lower || at_upper) || np > 0) {
-                    Box lbox = box, rbox = box;
-                    lbox.upper[k] = p;
-                    rbox.lower[k] = p;
-                    const float pl = lbox.surface_area() / area, pr = rbox.surface_area() / area;
+                    const float pl = (p - lo) * a + b, pr = (hi - p) * a + b;
                     auto cost_of = [&](std::size_t a, std::size_t b) {
                         const float c = ct + ci * (pl * float(a) + pr * float(b));
                         return (a == 0 || b == 0) ? c * kEmptySideBonus : c;
@@ -180,7 +182,7 @@ private:
                     }
                     if (np > 0 && rules_.flat_cell_rule && cross_section > 0.0 &&
                         covered(ev, planar_begin, planar_end, box, k, cross_section)) {
-                        const bool to_left = at_lower || (!at_upper && lbox.volume() <= rbox.volume());
+                        const bool to_left = at_lower || (!at_upper && p - lo <= hi - p);
                         const float c = to_left ? cost_of(nl + np, nr) : cost_of(nl, nr + np);
                         if (c < best_flat.cost) best_flat = SplitChoice{k, p, to_left, c, Rule::flat_cell};
                     }
@@ -200,10 +202,10 @@ private:
     bool covered(const AxisEvents& ev, std::size_t begin, std::size_t end, const Box& box, int axis,
                  double cross_section) const {
         double quick = 0.0;
-        for (std::size_t j = begin; j < end; ++j) quick += area_[ev[j].tri];
+        for (std::size_t j = begin; j < end; ++j) quick += area_[ev[j].tri()];
         if (quick < cross_section * (1.0 - 1e-6)) return false;
         double exact = 0.0;
-        for (std::size_t j = begin; j < end; ++j) exact += clipped_planar_area(scene_.triangle(ev[j].tri), box, axis);
+        for (std::size_t j = begin; j < end; ++j) exact += clipped_planar_area(scene_.triangle(ev[j].tri()), box, axis);
         return exact >= cross_section * (1.0 - 1e-6);
     }
 
@@ -211,25 +213,25 @@ private:
                    AxisEvents (&left_events)[3], AxisEvents (&right_events)[3]) {
         const AxisEvents& ev = events[s.axis];
         for (const SplitEvent& e : ev)
-            if (e.type != kEnd) side_[e.tri] = kBoth;
+            if (e.type() != kEnd) side_[e.tri()] = kBoth;
         for (const SplitEvent& e : ev) {
-            if (e.type == kEnd && e.pos <= s.pos) side_[e.tri] = kLeft;
-            else if (e.type == kStart && e.pos >= s.pos) side_[e.tri] = kRight;
-            else if (e.type == kPlanar) {
+            if (e.type() == kEnd && e.pos <= s.pos) side_[e.tri()] = kLeft;
+            else if (e.type() == kStart && e.pos >= s.pos) side_[e.tri()] = kRight;
+            else if (e.type() == kPlanar) {
                 const bool left_side = e.pos < s.pos || (e.pos == s.pos && s.planar_left);
-                side_[e.tri] = left_side ? kLeft : kRight;
+                side_[e.tri()] = left_side ? kLeft : kRight;
             }
         }
         both_.clear();
         for (const SplitEvent& e : ev)
-            if (e.type == kStart && side_[e.tri] == kBoth) both_.push_back(e.tri);
+            if (e.type() == kStart && side_[e.tri()] == kBoth) both_.push_back(e.tri());
 
         for (int k = 0; k < 3; ++k) {
             left_events[k].reserve(events[k].size() / 2 + 2 * both_.size());
             right_events[k].reserve(events[k].size() / 2 + 2 * both_.size());
             for (const SplitEvent& e : events[k]) {
-                if (side_[e.tri] == kLeft) left_events[k].push_back(e);
-                else if (side_[e.tri] == kRight) right_events[k].push_back(e);
+                if (side_[e.tri()] == kLeft) left_events[k].push_back(e);
+                else if (side_[e.tri()] == kRight) right_events[k].push_back(e);
             }
             AxisEvents().swap(events[k]);
         }
@@ -259,7 +261,7 @@ private:
     void make_leaf(const Box& box, const AxisEvents& axis0) {
         const std::size_t offset = out_.triangle_ids.size();
         for (const SplitEvent& e : axis0)
-            if (e.type != kEnd) out_.triangle_ids.push_back(e.tri);
+            if (e.type() != kEnd) out_.triangle_ids.push_back(e.tri());
         const std::size_t count = out_.triangle_ids.size() - offset;
         std::sort(out_.triangle_ids.begin() + std::ptrdiff_t(offset), out_.triangle_ids.end());
         if (offset > KdNode::kMaxIndex || out_.triangle_ids.size() > std::size_t(KdNode::kMaxIndex))

@@ -78,10 +78,10 @@ Box clipped_bounds(const Triangle& tri, const Box& cell, double slack) {
 void append_events(std::uint32_t tri, const Box& b, AxisEvents (&events)[3]) {
     for (int k = 0; k < 3; ++k) {
         if (b.lower[k] == b.upper[k]) {
-            events[k].push_back(SplitEvent{b.lower[k], tri, kPlanar});
+            events[k].push_back(SplitEvent(b.lower[k], tri, kPlanar));
         } else {
-            events[k].push_back(SplitEvent{b.lower[k], tri, kStart});
-            events[k].push_back(SplitEvent{b.upper[k], tri, kEnd});
+            events[k].push_back(SplitEvent(b.lower[k], tri, kStart));
+            events[k].push_back(SplitEvent(b.upper[k], tri, kEnd));
         }
     }
 }

@@ -10,15 +10,24 @@ namespace beamtrace::kd {
 
 enum EventType : std::uint8_t { kEnd = 0, kPlanar = 1, kStart = 2 };
 
+// 8 bytes: position, and the event type in the top two bits above a 30-bit triangle id, so that
+// ordering by (pos, key) orders by position, then type (end < planar < start).
 struct SplitEvent {
     float pos;
-    std::uint32_t tri;
-    std::uint8_t type;
+    std::uint32_t key;
+
+    static constexpr std::uint32_t kMaxTriangle = (1u << 30) - 1;
+
+    SplitEvent() = default;
+    SplitEvent(float p, std::uint32_t tri, EventType type) : pos(p), key((std::uint32_t(type) << 30) | tri) {}
+    std::uint32_t tri() const { return key & kMaxTriangle; }
+    EventType type() const { return EventType(key >> 30); }
 
     friend bool operator<(const SplitEvent& a, const SplitEvent& b) {
-        return a.pos < b.pos || (a.pos == b.pos && a.type < b.type);
+        return a.pos < b.pos || (a.pos == b.pos && a.key < b.key);
     }
 };
+static_assert(sizeof(SplitEvent) == 8);
 
 using AxisEvents = std::vector<SplitEvent>;
 
