@@ -211,21 +211,23 @@ private:
 
     void partition(const SplitChoice& s, const Box& left, const Box& right, AxisEvents (&events)[3],
                    AxisEvents (&left_events)[3], AxisEvents (&right_events)[3]) {
-        const AxisEvents& ev = events[s.axis];
-        for (const SplitEvent& e : ev)
-            if (e.type() != kEnd) side_[e.tri()] = kBoth;
-        for (const SplitEvent& e : ev) {
-            if (e.type() == kEnd && e.pos <= s.pos) side_[e.tri()] = kLeft;
-            else if (e.type() == kStart && e.pos >= s.pos) side_[e.tri()] = kRight;
-            else if (e.type() == kPlanar) {
-                const bool left_side = e.pos < s.pos || (e.pos == s.pos && s.planar_left);
-                side_[e.tri()] = left_side ? kLeft : kRight;
+        // One pass over the split axis classifies every triangle: a start at or above the plane is
+        // right only, an end at or below it left only (its start came earlier), otherwise both;
+        // triangles still "both" at their end event straddle the plane.
+        both_.clear();
+        for (const SplitEvent& e : events[s.axis]) {
+            const std::uint32_t t = e.tri();
+            switch (e.type()) {
+                case kStart: side_[t] = e.pos >= s.pos ? kRight : kBoth; break;
+                case kPlanar:
+                    side_[t] = (e.pos < s.pos || (e.pos == s.pos && s.planar_left)) ? kLeft : kRight;
+                    break;
+                case kEnd:
+                    if (e.pos <= s.pos) side_[t] = kLeft;
+                    else if (side_[t] == kBoth) both_.push_back(t);
+                    break;
             }
         }
-        both_.clear();
-        for (const SplitEvent& e : ev)
-            if (e.type() == kStart && side_[e.tri()] == kBoth) both_.push_back(e.tri());
-
         for (int k = 0; k < 3; ++k) {
             left_events[k].reserve(events[k].size() / 2 + 2 * both_.size());
             right_events[k].reserve(events[k].size() / 2 + 2 * both_.size());

@@ -1,0 +1,89 @@
+// beamtrace bench: every engine on the same rays, timed (best of N), checked against Embree.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "beamtrace/error.hpp"
+#include "cli/commands.hpp"
+#include "workload/bench_run.hpp"
+
+namespace beamtrace::cli {
+
+namespace {
+
+struct BenchArgs {
+    SceneOptions scene;
+    std::string light, mode = "primary", engines, json, markdown;
+    int ao_rays = 16, repeats = 3;
+};
+
+std::vector<std::string> split_list(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ','))
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+void write_text(const std::string& path, const std::string& text) {
+    const std::filesystem::path p(path);
+    if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
+    std::ofstream out(p);
+    out << text;
+    if (!out) throw Error("cannot write " + path);
+}
+
+
+std::string bench_header(const workload::BenchResult& r) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "scene %s (%zu triangles), mode %s, %dx%d, %d thread%s, %zu rays, best of timed runs\n",
+                  r.scene.c_str(), r.triangles, workload::to_string(r.mode), r.width, r.height, r.threads,
+                  r.threads == 1 ? "" : "s", r.rays);
+    return buf;
+}
+
+}  // namespace
+
+std::function<void()> add_bench_command(CLI::App& app) {
+    auto args = std::make_shared<BenchArgs>();
+    CLI::App* cmd = app.add_subcommand("bench", "time engines on the same rays and compare every hit with Embree");
+    add_scene_options(*cmd, args->scene);
+    cmd->add_option("--light", args->light, "X,Y,Z point light of shadow rays (default: halfway between camera and scene centre)");
+    cmd->add_option("--mode", args->mode, "primary | shadow | ao")->capture_default_str();
+    std::string names;
+    for (const std::string& n : workload::engine_names()) names += (names.empty() ? "" : ", ") + n;
+    cmd->add_option("--engines", args->engines, "comma-separated engines: " + names)->required();
+    cmd->add_option("--ao-rays", args->ao_rays, "occlusion rays per pixel in ao mode")->capture_default_str()->check(CLI::Range(1, 4096));
+    cmd->add_option("--repeats", args->repeats, "timed runs per engine (the best is reported)")->capture_default_str()->check(CLI::Range(1, 1000));
+    cmd->add_option("--json", args->json, "write the results as JSON to this file");
+    cmd->add_option("--markdown", args->markdown, "write the table as Markdown to this file");
+    return [args] {
+        workload::WorkloadConfig wc;
+        wc.scene = args->scene.scene;
+        if (!args->scene.camera.empty()) wc.camera = scenes::parse_camera(args->scene.camera, "--camera");
+        if (!args->light.empty()) wc.light = scenes::parse_point(args->light, "--light");
+        wc.mode = workload::parse_mode(args->mode);
+        wc.width = args->scene.width;
+        wc.height = args->scene.height;
+        wc.ao_rays = args->ao_rays;
+        workload::BenchOptions bo;
+        bo.engines = split_list(args->engines);
+        bo.threads = args->scene.threads;
+        bo.repeats = args->repeats;
+        bo.progress = true;
+        for (const std::string& e : bo.engines) workload::make_engine(e);  // reject unknown names before loading
+        const workload::Workload w = workload::make_workload(wc);
+        const workload::BenchResult result = workload::run_bench(w, bo);
+        const std::string header = bench_header(result);
+        const report::Table table = workload::to_table(result);
+        std::printf("%s\n%s", header.c_str(), table.text().c_str());
+        std::fflush(stdout);
+        if (!args->json.empty()) write_text(args->json, workload::to_json(result).dump(2) + "\n");
+        if (!args->markdown.empty()) write_text(args->markdown, header + "\n" + table.markdown());
+    };
+}
+
+}  // namespace beamtrace::cli

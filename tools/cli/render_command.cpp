@@ -1,0 +1,54 @@
+// beamtrace render: a picture of what one engine sees.
+#include <cstdio>
+#include <memory>
+
+#include "beamtrace/error.hpp"
+#include "cli/commands.hpp"
+#include "report/progress_bar.hpp"
+#include "scenes/scene_source.hpp"
+#include "workload/picture.hpp"
+
+namespace beamtrace::cli {
+
+namespace {
+struct RenderArgs {
+    SceneOptions scene;
+    std::string engine = "kd1", shade = "normal", out;
+    int ao_rays = 16;
+};
+}  // namespace
+
+std::function<void()> add_render_command(CLI::App& app) {
+    auto args = std::make_shared<RenderArgs>();
+    CLI::App* cmd = app.add_subcommand("render", "write a PNG picture of what one engine sees");
+    add_scene_options(*cmd, args->scene);
+    cmd->add_option("--engine", args->engine, "engine that traces the picture")->capture_default_str();
+    cmd->add_option("--shade", args->shade, "normal | depth | ao")->capture_default_str();
+    cmd->add_option("--ao-rays", args->ao_rays, "occlusion rays per pixel for --shade ao")->capture_default_str()->check(CLI::Range(1, 4096));
+    cmd->add_option("--out", args->out, "PNG file to write")->required();
+    return [args] {
+        workload::PictureOptions po;
+        po.shade = workload::parse_shade(args->shade);
+        po.width = args->scene.width;
+        po.height = args->scene.height;
+        po.threads = args->scene.threads;
+        po.ao_rays = args->ao_rays;
+        std::unique_ptr<workload::Engine> engine = workload::make_engine(args->engine);
+        const scenes::SceneSource source = scenes::load_scene(args->scene.scene);
+        const scenes::Camera camera =
+            args->scene.camera.empty() ? source.camera : scenes::parse_camera(args->scene.camera, "--camera");
+        {
+            report::ProgressBar bar("build " + args->engine);
+            workload::EngineOptions eo;
+            if (bar.enabled()) eo.build_progress = [&bar](double f) { bar.update(f); };
+            engine->build(source.scene, eo);
+            bar.finish();
+        }
+        const report::Image image = workload::render_picture(*engine, source.scene, camera, po);
+        report::write_png(image, args->out);
+        std::printf("wrote %s (%dx%d, %s, engine %s, scene %s)\n", args->out.c_str(), po.width, po.height,
+                    args->shade.c_str(), args->engine.c_str(), source.name.c_str());
+    };
+}
+
+}  // namespace beamtrace::cli

@@ -1,0 +1,284 @@
+// The Embree 3 oracle (see embree_oracle.hpp for the ray semantics it implements).
+#include "oracle/embree_oracle.hpp"
+
+#include <embree3/rtcore.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "beamtrace/error.hpp"
+
+namespace beamtrace::oracle {
+
+static_assert(sizeof(Float3) == 3 * sizeof(float), "Float3 must be three packed floats");
+
+namespace {
+
+const char* error_name(RTCError code) {
+    switch (code) {
+        case RTC_ERROR_NONE: return "no error";
+        case RTC_ERROR_UNKNOWN: return "unknown error";
+        case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
+        case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
+        case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
+        case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
+        case RTC_ERROR_CANCELLED: return "cancelled";
+    }
+    return "unrecognised error code";
+}
+
+}  // namespace
+
+struct EmbreeOracle::Impl {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    // Embree primID -> scene triangle id; empty when they are equal (no degenerate triangles).
+    std::vector<std::uint32_t> prim_to_triangle;
+    std::size_t embree_triangles = 0;
+    double build_seconds = 0.0;
+    std::size_t memory_bytes = 0;
+
+    // Bytes currently allocated by the device, kept by the memory monitor callback (which Embree may
+    // call from its build threads concurrently).
+    std::atomic<std::int64_t> allocated{0};
+
+    std::mutex error_mutex;
+    std::string first_error;  // first error reported by the device's error callback
+
+    Impl() = default;
+    Impl(const Impl&) = delete;
+    Impl& operator=(const Impl&) = delete;
+    ~Impl() {
+        if (scene != nullptr) rtcReleaseScene(scene);
+        if (device != nullptr) rtcReleaseDevice(device);
+    }
+
+    std::uint32_t triangle_id(unsigned prim) const {
+        return prim_to_triangle.empty() ? prim : prim_to_triangle[prim];
+    }
+
+    static void on_error(void* user, RTCError code, const char* text) {
+        auto* impl = static_cast<Impl*>(user);
+        std::lock_guard<std::mutex> lock(impl->error_mutex);
+        if (impl->first_error.empty())
+            impl->first_error = std::string(error_name(code)) + (text != nullptr ? std::string(": ") + text : "");
+    }
+
+    static bool on_memory(void* user, ssize_t bytes, bool /*post*/) {
+        static_cast<Impl*>(user)->allocated.fetch_add(bytes, std::memory_order_relaxed);
+        return true;  // never veto an allocation
+    }
+
+    // Throws the first error Embree reported (if any) while doing `step`.
+    void check(const char* step) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!first_error.empty()) throw Error(std::string("embree oracle: ") + step + " failed: " + first_error);
+    }
+};
+
+namespace {
+
+// A ray as Embree accepts it: segment inside [0, inf], t measured from the (possibly moved) origin.
+struct EmbreeSegment {
+    Float3 org, dir;
+    float tnear = 0.0f, tfar = 0.0f;
+    float shift = 0.0f;  // add to Embree's t to get the caller's t
+};
+
+bool finite(Float3 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
+std::optional<EmbreeSegment> to_embree(const Ray& r) {
+    if (!finite(r.org) || !finite(r.dir)) return std::nullopt;
+    if (r.dir.x == 0.0f && r.dir.y == 0.0f && r.dir.z == 0.0f) return std::nullopt;
+    if (std::isnan(r.tnear) || std::isnan(r.tfar) || !std::isfinite(r.tnear)) return std::nullopt;
+    if (!(r.tnear <= r.tfar)) return std::nullopt;
+    EmbreeSegment s{r.org, r.dir, r.tnear, r.tfar, 0.0f};
+    if (r.tnear < 0.0f) {
+        const double tn = r.tnear;
+        s.org = Float3{float(r.org.x + tn * r.dir.x), float(r.org.y + tn * r.dir.y), float(r.org.z + tn * r.dir.z)};
+        if (!finite(s.org)) return std::nullopt;
+        s.tnear = 0.0f;
+        s.tfar = std::isinf(r.tfar) ? r.tfar : float(double(r.tfar) - tn);
+        s.shift = r.tnear;
+    }
+    return s;
+}
+
+void fill_ray(RTCRay& out, const EmbreeSegment& s) {
+    out.org_x = s.org.x; out.org_y = s.org.y; out.org_z = s.org.z;
+    out.dir_x = s.dir.x; out.dir_y = s.dir.y; out.dir_z = s.dir.z;
+    out.tnear = s.tnear; out.tfar = s.tfar;
+    out.time = 0.0f;
+    out.mask = 0xFFFFFFFFu;
+    out.id = 0;
+    out.flags = 0;
+}
+
+template <class Ray16>
+void fill_lane(Ray16& out, int i, const EmbreeSegment& s) {
+    out.org_x[i] = s.org.x; out.org_y[i] = s.org.y; out.org_z[i] = s.org.z;
+    out.dir_x[i] = s.dir.x; out.dir_y[i] = s.dir.y; out.dir_z[i] = s.dir.z;
+    out.tnear[i] = s.tnear; out.tfar[i] = s.tfar;
+    out.time[i] = 0.0f;
+    out.mask[i] = 0xFFFFFFFFu;
+    out.id[i] = static_cast<unsigned>(i);
+    out.flags[i] = 0;
+}
+
+// Values for lanes Embree is told to ignore: a well-formed ray all the same.
+const EmbreeSegment kIdleLane{{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}, 0.0f, 0.0f, 0.0f};
+
+}  // namespace
+
+EmbreeOracle::EmbreeOracle(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    const auto start = std::chrono::steady_clock::now();
+
+    m.device = rtcNewDevice("verbose=0");
+    if (m.device == nullptr)
+        throw Error(std::string("embree oracle: cannot create an Embree device: ") +
+                    error_name(rtcGetDeviceError(nullptr)));
+    rtcSetDeviceErrorFunction(m.device, &Impl::on_error, &m);
+    rtcSetDeviceMemoryMonitorFunction(m.device, &Impl::on_memory, &m);
+
+    m.scene = rtcNewScene(m.device);
+    m.check("rtcNewScene");
+    rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_HIGH);
+    m.check("scene set-up");
+
+    // Only triangles of non-zero area go to Embree.
+    const std::size_t n = scene.triangle_count();
+    const std::size_t kept = n - scene.degenerate_count();
+    if (kept != n) {
+        m.prim_to_triangle.reserve(kept);
+        for (std::uint32_t t = 0; t < n; ++t)
+            if (!scene.is_degenerate(t)) m.prim_to_triangle.push_back(t);
+    }
+    m.embree_triangles = kept;
+
+    if (kept > 0) {
+        RTCGeometry geometry = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        m.check("rtcNewGeometry");
+        rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
+
+        const auto vertices = scene.vertices();
+        // rtcSetNewGeometryBuffer allocates (and pads) Embree's own copy.
+        auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              sizeof(Float3), vertices.size()));
+        auto* ib = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+            geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), kept));
+        if (vb == nullptr || ib == nullptr) {
+            rtcReleaseGeometry(geometry);
+            m.check("rtcSetNewGeometryBuffer");
+            throw Error("embree oracle: rtcSetNewGeometryBuffer returned no buffer");
+        }
+        std::memcpy(vb, vertices.data(), vertices.size() * sizeof(Float3));
+        const auto indices = scene.indices();
+        if (m.prim_to_triangle.empty()) {
+            std::memcpy(ib, indices.data(), indices.size() * sizeof(std::uint32_t));
+        } else {
+            for (std::size_t p = 0; p < kept; ++p)
+                std::memcpy(ib + 3 * p, indices.data() + 3 * std::size_t{m.prim_to_triangle[p]},
+                            3 * sizeof(std::uint32_t));
+        }
+        rtcCommitGeometry(geometry);
+        rtcAttachGeometryByID(m.scene, geometry, 0);
+        rtcReleaseGeometry(geometry);  // the scene holds it now
+        m.check("geometry set-up");
+    }
+
+    rtcCommitScene(m.scene);
+    m.check("rtcCommitScene");
+
+    m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::int64_t held = m.allocated.load();
+    m.memory_bytes = held > 0 ? static_cast<std::size_t>(held) : 0;
+}
+
+EmbreeOracle::~EmbreeOracle() = default;
+EmbreeOracle::EmbreeOracle(EmbreeOracle&&) noexcept = default;
+EmbreeOracle& EmbreeOracle::operator=(EmbreeOracle&&) noexcept = default;
+
+Hit EmbreeOracle::intersect1(const Ray& ray) const {
+    const auto s = to_embree(ray);
+    if (!s) return Hit{};
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    fill_ray(rh.ray, *s);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(impl_->scene, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return Hit{};
+    return Hit{rh.ray.tfar + s->shift, impl_->triangle_id(rh.hit.primID), rh.hit.u, rh.hit.v};
+}
+
+bool EmbreeOracle::occluded1(const Ray& ray) const {
+    const auto s = to_embree(ray);
+    if (!s) return false;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay r;
+    fill_ray(r, *s);
+    rtcOccluded1(impl_->scene, &context, &r);
+    return r.tfar == -kInfinity;  // Embree marks an occluded ray with tfar = -inf
+}
+
+void EmbreeOracle::intersect16(const Packet16& packet, PacketHits16& hits) const {
+    alignas(64) RTCRayHit16 rh;
+    alignas(64) int valid[16];
+    float shift[16];
+    for (int i = 0; i < 16; ++i) {
+        std::optional<EmbreeSegment> s;
+        if ((packet.active >> i) & 1u) s = to_embree(packet.ray(i));
+        valid[i] = s ? -1 : 0;
+        shift[i] = s ? s->shift : 0.0f;
+        fill_lane(rh.ray, i, s ? *s : kIdleLane);
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect16(valid, impl_->scene, &context, &rh);
+    for (int i = 0; i < 16; ++i) {
+        if (valid[i] == 0 || rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
+            hits.set_hit(i, Hit{});
+        } else {
+            hits.set_hit(i, Hit{rh.ray.tfar[i] + shift[i], impl_->triangle_id(rh.hit.primID[i]), rh.hit.u[i],
+                                 rh.hit.v[i]});
+        }
+    }
+}
+
+std::uint32_t EmbreeOracle::occluded16(const Packet16& packet) const {
+    alignas(64) RTCRay16 r;
+    alignas(64) int valid[16];
+    for (int i = 0; i < 16; ++i) {
+        std::optional<EmbreeSegment> s;
+        if ((packet.active >> i) & 1u) s = to_embree(packet.ray(i));
+        valid[i] = s ? -1 : 0;
+        fill_lane(r, i, s ? *s : kIdleLane);
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcOccluded16(valid, impl_->scene, &context, &r);
+    std::uint32_t mask = 0;
+    for (int i = 0; i < 16; ++i)
+        if (valid[i] != 0 && r.tfar[i] == -kInfinity) mask |= 1u << i;
+    return mask;
+}
+
+double EmbreeOracle::build_seconds() const { return impl_->build_seconds; }
+std::size_t EmbreeOracle::memory_bytes() const { return impl_->memory_bytes; }
+std::size_t EmbreeOracle::embree_triangle_count() const { return impl_->embree_triangles; }
+
+}  // namespace beamtrace::oracle

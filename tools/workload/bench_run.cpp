@@ -1,0 +1,123 @@
+#include "workload/bench_run.hpp"
+
+#include <chrono>
+#include <cstdio>
+
+#include "beamtrace/error.hpp"
+#include "oracle/comparison_json.hpp"
+#include "report/progress_bar.hpp"
+
+namespace beamtrace::workload {
+
+namespace {
+
+oracle::Tally compare(const Workload& w, const std::vector<Hit>& hits) {
+    oracle::Tally tally;
+    for (std::size_t slot = 0; slot < w.rays.slots(); ++slot)
+        if (w.rays.active(slot)) tally.record_hit(w.source.scene, slot, w.rays.ray(slot), hits[slot], w.reference_hits[slot]);
+    return tally;
+}
+
+oracle::Tally compare(const Workload& w, const std::vector<std::uint8_t>& occluded) {
+    oracle::Tally tally;
+    for (std::size_t slot = 0; slot < w.rays.slots(); ++slot)
+        if (w.rays.active(slot))
+            tally.record_occlusion(w.source.scene, slot, w.rays.ray(slot), occluded[slot] != 0,
+                                   w.reference_occluded[slot] != 0);
+    return tally;
+}
+
+std::string fixed(double v, int digits) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    return buf;
+}
+
+}  // namespace
+
+EngineResult run_engine(const Workload& w, const std::string& name, const BenchOptions& options) {
+    if (options.repeats < 1) throw Error("repeats must be at least 1");
+    if (options.threads < 1 || options.threads > 1024) throw Error("--threads must be between 1 and 1024");
+    std::unique_ptr<Engine> engine = make_engine(name);
+    EngineResult r;
+    r.name = name;
+    {
+        report::ProgressBar bar("build " + name, options.progress && report::stderr_is_terminal());
+        EngineOptions eo = options.engine_options;
+        if (bar.enabled()) eo.build_progress = [&bar](double f) { bar.update(f); };
+        engine->build(w.source.scene, eo);
+        bar.finish();
+    }
+    r.build_seconds = engine->build_seconds();
+    r.memory_bytes = engine->memory_bytes();
+
+    const bool closest = w.mode == Mode::primary;
+    std::vector<Hit> hits;
+    std::vector<std::uint8_t> occluded;
+    r.seconds = 1e300;
+    report::ProgressBar bar("trace " + name, options.progress && report::stderr_is_terminal());
+    for (int run = 0; run < options.repeats; ++run) {
+        const auto start = std::chrono::steady_clock::now();
+        if (closest) engine->intersect(w.rays, hits, options.threads);
+        else engine->occluded(w.rays, occluded, options.threads);
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        r.seconds = std::min(r.seconds, s);
+        bar.update(double(run + 1) / options.repeats);
+    }
+    bar.finish();
+    r.mrays_per_s = r.seconds > 0.0 ? double(w.rays.ray_count) / r.seconds / 1e6 : 0.0;
+    if (closest) {
+        for (const Hit& h : hits) r.hits += h.hit();
+        r.oracle = compare(w, hits);
+    } else {
+        for (std::uint8_t o : occluded) r.hits += o;
+        r.oracle = compare(w, occluded);
+    }
+    r.stats = engine->stats(w.rays);
+    return r;
+}
+
+BenchResult run_bench(const Workload& w, const BenchOptions& options) {
+    if (options.engines.empty()) throw Error("no engines given (--engines)");
+    for (const std::string& name : options.engines) make_engine(name);  // unknown names fail before any work
+    BenchResult result;
+    result.scene = w.source.name;
+    result.triangles = w.source.scene.triangle_count();
+    result.mode = w.mode;
+    result.width = w.rays.width;
+    result.height = w.rays.height;
+    result.threads = options.threads;
+    result.rays = w.rays.ray_count;
+    for (const std::string& name : options.engines) result.engines.push_back(run_engine(w, name, options));
+    return result;
+}
+
+nlohmann::json to_json(const BenchResult& r) {
+    nlohmann::json engines = nlohmann::json::object();
+    for (const EngineResult& e : r.engines) {
+        engines[e.name] = {{"mrays_per_s", e.mrays_per_s},     {"seconds", e.seconds},
+                           {"build_seconds", e.build_seconds}, {"memory_bytes", e.memory_bytes},
+                           {"hits", e.hits},                   {"oracle", oracle::to_json(e.oracle)},
+                           {"stats", e.stats}};
+    }
+    return {{"scene", r.scene}, {"triangles", r.triangles}, {"mode", to_string(r.mode)}, {"width", r.width},
+            {"height", r.height}, {"threads", r.threads}, {"rays", r.rays}, {"engines", engines}};
+}
+
+report::Table to_table(const BenchResult& r) {
+    const EngineResult* base = nullptr;
+    for (const char* name : {"embree1", "embree16"})
+        for (const EngineResult& e : r.engines)
+            if (!base && e.name == name) base = &e;
+    report::Table t({"engine", "Mrays/s", base ? "x " + base->name : "x embree", "trace s", "build s", "memory MB",
+                     "hits", "agree", "ties", "grazing", "mismatch"});
+    for (const EngineResult& e : r.engines) {
+        t.add_row({e.name, fixed(e.mrays_per_s, 3), base ? fixed(e.mrays_per_s / base->mrays_per_s, 2) : "-",
+                   fixed(e.seconds, 3), fixed(e.build_seconds, 3), fixed(double(e.memory_bytes) / 1e6, 1),
+                   std::to_string(e.hits), std::to_string(e.oracle.agree), std::to_string(e.oracle.ties),
+                   std::to_string(e.oracle.grazing), std::to_string(e.oracle.mismatch)});
+    }
+    return t;
+}
+
+}  // namespace beamtrace::workload

@@ -1,0 +1,46 @@
+#pragma once
+// An engine: one way of answering closest-hit and occlusion queries for a RaySet. The benchmark,
+// the renderer and the differential tests drive every engine through this one interface.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "beamtrace/kdtree.hpp"
+#include "beamtrace/scene.hpp"
+#include "workload/ray_set.hpp"
+
+namespace beamtrace::workload {
+
+// Settings engines may use; each engine reads what concerns it.
+struct EngineOptions {
+    KdBuildRules kd_rules;
+    // Progress of long builds in [0, 1]; may be empty.
+    std::function<void(double)> build_progress;
+};
+
+class Engine {
+public:
+    virtual ~Engine() = default;
+    virtual std::string name() const = 0;
+    // Builds the engine's structures for the scene (timed by the engine itself).
+    virtual void build(const Scene& scene, const EngineOptions& options) = 0;
+    virtual double build_seconds() const = 0;
+    virtual std::size_t memory_bytes() const = 0;
+    // hits / occluded are resized to rays.slots(); inactive slots report no hit / not occluded.
+    virtual void intersect(const RaySet& rays, std::vector<Hit>& hits, int threads) const = 0;
+    virtual void occluded(const RaySet& rays, std::vector<std::uint8_t>& occluded, int threads) const = 0;
+    // Engine statistics (build and traversal counters). Engines that count do so in an extra,
+    // untimed pass over the same rays with the counting variant of the same traversal code.
+    virtual nlohmann::json stats(const RaySet& rays) const = 0;
+};
+
+// Every engine name, in the order of the table: embree1, embree16, brute, kd1.
+const std::vector<std::string>& engine_names();
+// Throws beamtrace::Error naming the known engines for an unknown name.
+std::unique_ptr<Engine> make_engine(const std::string& name);
+
+}  // namespace beamtrace::workload

@@ -1,0 +1,22 @@
+#include "workload/engine_registry.hpp"
+
+#include "beamtrace/error.hpp"
+
+namespace beamtrace::workload {
+
+const std::vector<std::string>& engine_names() {
+    static const std::vector<std::string> names = {"embree1", "embree16", "brute", "kd1"};
+    return names;
+}
+
+std::unique_ptr<Engine> make_engine(const std::string& name) {
+    if (name == "embree1") return make_embree_engine(false);
+    if (name == "embree16") return make_embree_engine(true);
+    if (name == "brute") return make_brute_engine();
+    if (name == "kd1") return make_kd1_engine();
+    std::string known;
+    for (const std::string& n : engine_names()) known += (known.empty() ? "" : ", ") + n;
+    throw Error("unknown engine '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace beamtrace::workload

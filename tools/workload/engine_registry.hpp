@@ -1,0 +1,13 @@
+#pragma once
+// Constructors of the engines, one per file; make_engine() (engine_registry.cpp) picks by name.
+#include <memory>
+
+#include "workload/engine.hpp"
+
+namespace beamtrace::workload {
+
+std::unique_ptr<Engine> make_embree_engine(bool packets);
+std::unique_ptr<Engine> make_brute_engine();
+std::unique_ptr<Engine> make_kd1_engine();
+
+}  // namespace beamtrace::workload

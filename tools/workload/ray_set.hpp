@@ -1,0 +1,57 @@
+#pragma once
+// The rays of one benchmark or picture, generated once (never timed) and traced by every engine:
+// 4x4 packets, each lane remembering the pixel it belongs to.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "beamtrace/ray.hpp"
+#include "beamtrace/scene.hpp"
+#include "scenes/camera.hpp"
+
+namespace beamtrace::workload {
+
+enum class Mode { primary, shadow, ao };
+const char* to_string(Mode mode);
+Mode parse_mode(const std::string& text);  // throws beamtrace::Error naming the accepted modes
+
+inline constexpr std::uint32_t kNoPixel = 0xFFFFFFFFu;
+
+struct RaySet {
+    Mode mode = Mode::primary;
+    int width = 0, height = 0;
+    std::vector<Packet16> packets;
+    std::vector<std::uint32_t> pixel;  // per slot (packet * 16 + lane): the pixel, or kNoPixel if inactive
+    std::size_t ray_count = 0;         // active lanes over all packets
+
+    std::size_t slots() const { return packets.size() * 16; }
+    bool active(std::size_t slot) const { return (packets[slot / 16].active >> (slot % 16)) & 1u; }
+    Ray ray(std::size_t slot) const { return packets[slot / 16].ray(int(slot % 16)); }
+};
+
+// One ray through each pixel centre; each packet is a 4x4 block of pixels (partial blocks at the
+// right and bottom edges have inactive lanes).
+RaySet make_primary_rays(const scenes::Camera& camera, int width, int height);
+
+// Where a primary ray hit: the point and the geometric normal turned towards the ray's origin.
+struct SurfacePoint {
+    Float3 position, normal;
+};
+SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
+
+// The offset that lifts secondary-ray origins off the surface: 1e-4 of the scene diagonal.
+float surface_offset(const Scene& scene);
+
+// One shadow ray per primary hit, from the hit point (lifted off the surface towards the light) to
+// the light, ending just before it: tfar = 1 - 1e-4 with the direction light - origin.
+RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& primary_hits, Float3 light);
+
+// ao_rays occlusion rays per primary hit over the hemisphere of the geometric normal (cosine
+// weighted, stratified, deterministic per pixel), of length 10% of the scene diagonal. The rays of
+// one pixel fill consecutive lanes (16 per pixel make one packet).
+RaySet make_ao_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& primary_hits, int ao_rays);
+
+// The default point light: halfway between the camera and the centre of the scene's box.
+Float3 default_light(const scenes::Camera& camera, const Box& bounds);
+
+}  // namespace beamtrace::workload
