@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -126,6 +127,17 @@ TEST(MeshBuilder, TubeAlongAKnotIsClosedAndFacesOutward) {
     const auto t = topology(m.vertices(), m.indices());
     EXPECT_TRUE(t.closed());
     EXPECT_GT(t.signed_volume, 0.0);
+    // The transported frames close up: the last ring joins the first without a twist, so matching
+    // vertices of neighbouring rings are as close across the seam as anywhere else.
+    auto step = [&](std::size_t ring) {
+        float longest = 0.0f;
+        for (std::size_t j = 0; j < 20; ++j)
+            longest = std::max(longest, length(m.vertices()[((ring + 1) % 240) * 20 + j] - m.vertices()[ring * 20 + j]));
+        return longest;
+    };
+    float longest_inside = 0.0f;
+    for (std::size_t ring = 0; ring + 1 < 240; ++ring) longest_inside = std::max(longest_inside, step(ring));
+    EXPECT_LE(step(239), 1.1f * longest_inside);
     EXPECT_THROW(m.add_tube(Frame{}, std::span<const Float3>(knot).first(2), 0.3f, 20), Error);
 }
 

@@ -204,19 +204,15 @@ void MeshBuilder::add_tube(const Frame& frame, std::span<const Float3> curve, fl
     // evenly so the last ring meets the first one without a jump.
     std::vector<Float3> t(m), n(m);
     for (std::size_t k = 0; k < m; ++k) t[k] = normalize(curve[(k + 1) % m] - curve[(k + m - 1) % m]);
+    // Carry a normal from one point to the next by removing its component along the new tangent.
+    auto transport = [](Float3 normal, Float3 tangent) { return normalize(normal - tangent * dot(normal, tangent)); };
     n[0] = perpendicular(t[0]);
-    for (std::size_t k = 1; k <= m; ++k) {
-        const Float3 prev = n[k - 1];
-        const Float3 tk = t[k % m];
-        const Float3 moved = normalize(prev - tk * dot(prev, tk));
-        if (k < m) n[k] = moved;
-        else {
-            const float twist = std::atan2(dot(cross(moved, n[0]), t[0]), dot(moved, n[0]));
-            for (std::size_t j = 1; j < m; ++j) {
-                const float angle = twist * static_cast<float>(j) / static_cast<float>(m);
-                n[j] = n[j] * std::cos(angle) + cross(t[j], n[j]) * std::sin(angle);
-            }
-        }
+    for (std::size_t k = 1; k < m; ++k) n[k] = transport(n[k - 1], t[k]);
+    const Float3 back_at_start = transport(n[m - 1], t[0]);
+    const float twist = std::atan2(dot(cross(back_at_start, n[0]), t[0]), dot(back_at_start, n[0]));
+    for (std::size_t k = 1; k < m; ++k) {
+        const float angle = twist * static_cast<float>(k) / static_cast<float>(m);
+        n[k] = n[k] * std::cos(angle) + cross(t[k], n[k]) * std::sin(angle);
     }
     const std::uint32_t base = static_cast<std::uint32_t>(vertices_.size());
     const std::uint32_t s = static_cast<std::uint32_t>(sides);

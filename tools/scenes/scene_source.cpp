@@ -41,19 +41,14 @@ bool is_generator(std::string_view name) {
 }  // namespace
 
 std::string scene_spec_help() {
-    return "random:N            N small random triangles in the unit cube, N = 1.." +
-           std::to_string(kMaxRandomTriangles) +
-           "\n"
-           "tetra:LEVEL         Sierpinski tetrahedron, 4^(LEVEL+1) triangles, LEVEL = 0.." +
-           std::to_string(kMaxTetraLevel) +
-           "\n"
-           "sphereflake:LEVEL   Haines' sphereflake, LEVEL = 0.." +
-           std::to_string(kMaxSphereflakeLevel) +
-           "\n"
-           "room | room:SEED    furnished classroom of about 1M triangles (default seed " +
-           std::to_string(kDefaultRoomSeed) +
-           ")\n"
-           "PATH                a mesh file: OBJ, PLY, OFF, STL, glTF, ... (through Assimp)";
+    using std::to_string;
+    std::string help;
+    help += "random:N            N small random triangles in the unit cube, N = 1.." + to_string(kMaxRandomTriangles) + "\n";
+    help += "tetra:LEVEL         Sierpinski tetrahedron, 4^(LEVEL+1) triangles, LEVEL = 0.." + to_string(kMaxTetraLevel) + "\n";
+    help += "sphereflake:LEVEL   Haines' sphereflake, LEVEL = 0.." + to_string(kMaxSphereflakeLevel) + "\n";
+    help += "room | room:SEED    furnished classroom of about 1M triangles (default seed " + to_string(kDefaultRoomSeed) + ")\n";
+    help += "PATH                a mesh file: OBJ, PLY, OFF, STL, glTF, ... (through Assimp)";
+    return help;
 }
 
 SceneSource load_scene(const std::string& spec) {

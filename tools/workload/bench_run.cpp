@@ -27,6 +27,18 @@ oracle::Tally compare(const Workload& w, const std::vector<std::uint8_t>& occlud
     return tally;
 }
 
+std::uint64_t count_hits(const std::vector<Hit>& hits) {
+    std::uint64_t n = 0;
+    for (const Hit& h : hits) n += h.hit();
+    return n;
+}
+
+std::uint64_t count_hits(const std::vector<std::uint8_t>& occluded) {
+    std::uint64_t n = 0;
+    for (std::uint8_t o : occluded) n += o;
+    return n;
+}
+
 std::string fixed(double v, int digits) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.*f", digits, v);
@@ -34,6 +46,17 @@ std::string fixed(double v, int digits) {
 }
 
 }  // namespace
+
+oracle::Tally check_against_oracle(const Engine& engine, const Workload& w, int threads) {
+    if (w.mode == Mode::primary) {
+        std::vector<Hit> hits;
+        engine.intersect(w.rays, hits, threads);
+        return compare(w, hits);
+    }
+    std::vector<std::uint8_t> occluded;
+    engine.occluded(w.rays, occluded, threads);
+    return compare(w, occluded);
+}
 
 EngineResult run_engine(const Workload& w, const std::string& name, const BenchOptions& options) {
     if (options.repeats < 1) throw Error("repeats must be at least 1");
@@ -66,13 +89,8 @@ EngineResult run_engine(const Workload& w, const std::string& name, const BenchO
     }
     bar.finish();
     r.mrays_per_s = r.seconds > 0.0 ? double(w.rays.ray_count) / r.seconds / 1e6 : 0.0;
-    if (closest) {
-        for (const Hit& h : hits) r.hits += h.hit();
-        r.oracle = compare(w, hits);
-    } else {
-        for (std::uint8_t o : occluded) r.hits += o;
-        r.oracle = compare(w, occluded);
-    }
+    r.hits = closest ? count_hits(hits) : count_hits(occluded);
+    r.oracle = closest ? compare(w, hits) : compare(w, occluded);
     r.stats = engine->stats(w.rays);
     return r;
 }

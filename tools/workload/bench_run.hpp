@@ -32,6 +32,10 @@ struct BenchOptions {
     bool progress = false;  // progress bars on stderr (only drawn on a terminal)
 };
 
+// Traces the workload's rays once with an engine already built for its scene and sorts every ray
+// against the oracle's answer.
+oracle::Tally check_against_oracle(const Engine& engine, const Workload& workload, int threads = 1);
+
 // Builds, runs and checks one engine on the workload.
 EngineResult run_engine(const Workload& workload, const std::string& engine, const BenchOptions& options);
 

@@ -114,6 +114,25 @@ float unit_float(std::uint32_t h) { return float(h >> 8) * (1.0f / 16777216.0f);
 
 }  // namespace
 
+RaySet make_random_rays(const Box& box, std::size_t count, unsigned seed, Mode mode) {
+    RaySet set;
+    set.mode = mode;
+    set.width = int(std::min<std::size_t>(count, 65536));
+    set.height = 1;
+    PacketWriter writer(set);
+    const Float3 lo = box.lower - box.extent() * 0.2f, size = box.extent() * 1.4f;
+    for (std::size_t i = 0; i < count; ++i) {
+        auto u = [&](std::uint32_t k) { return unit_float(hash(std::uint32_t(i) * 13u + k + seed * 7777u)); };
+        Ray r;
+        r.org = lo + Float3{u(1) * size.x, u(2) * size.y, u(3) * size.z};
+        const float z = 2.0f * u(4) - 1.0f, phi = 6.28318531f * u(5), s = std::sqrt(std::max(0.0f, 1.0f - z * z));
+        r.dir = Float3{s * std::cos(phi), s * std::sin(phi), z};
+        r.tfar = mode == Mode::primary ? kInfinity : 0.5f * box.diagonal();
+        writer.add(r, std::uint32_t(i % std::size_t(set.width)));
+    }
+    return set;
+}
+
 RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits, Float3 light) {
     check_hits(primary, hits);
     RaySet set;

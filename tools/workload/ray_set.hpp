@@ -51,6 +51,10 @@ RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::ve
 // one pixel fill consecutive lanes (16 per pixel make one packet).
 RaySet make_ao_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& primary_hits, int ao_rays);
 
+// count rays with origins spread over the box grown by 20% on every side and uniformly random
+// directions, packed 16 to a packet (incoherent); deterministic for a seed.
+RaySet make_random_rays(const Box& box, std::size_t count, unsigned seed, Mode mode = Mode::primary);
+
 // The default point light: halfway between the camera and the centre of the scene's box.
 Float3 default_light(const scenes::Camera& camera, const Box& bounds);
 

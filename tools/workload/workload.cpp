@@ -30,6 +30,15 @@ std::vector<std::uint8_t> oracle_occlusion(const oracle::EmbreeOracle& oracle, c
 
 }  // namespace
 
+void replace_rays(Workload& w, RaySet rays) {
+    w.mode = rays.mode;
+    w.rays = std::move(rays);
+    w.reference_hits.clear();
+    w.reference_occluded.clear();
+    if (w.mode == Mode::primary) w.reference_hits = oracle_hits(*w.oracle, w.rays);
+    else w.reference_occluded = oracle_occlusion(*w.oracle, w.rays);
+}
+
 Workload make_workload(const WorkloadConfig& config) { return make_workload(scenes::load_scene(config.scene), config); }
 
 Workload make_workload(scenes::SceneSource source, const WorkloadConfig& config) {

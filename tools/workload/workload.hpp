@@ -35,6 +35,10 @@ struct Workload {
     std::shared_ptr<const oracle::EmbreeOracle> oracle;
 };
 
+// Replaces the rays (and their mode: closest hit for Mode::primary, occlusion otherwise) and asks the
+// oracle again.
+void replace_rays(Workload& workload, RaySet rays);
+
 // Loads the scene (or takes the given one), makes the rays and the oracle's answers.
 Workload make_workload(const WorkloadConfig& config);
 Workload make_workload(scenes::SceneSource source, const WorkloadConfig& config);

@@ -1,0 +1,132 @@
+// Ray sets: layout of the packets, pixels of the lanes, secondary rays, determinism.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "beamtrace/error.hpp"
+#include "scenes/scene_source.hpp"
+#include "workload/bench_run.hpp"
+#include "workload/ray_set.hpp"
+
+using namespace beamtrace;
+using namespace beamtrace::workload;
+
+TEST(RaySet, PrimaryRaysCoverEveryPixelOnce) {
+    scenes::Camera cam;
+    cam.eye = {0, 0, 5};
+    cam.at = {0, 0, 0};
+    const RaySet s = make_primary_rays(cam, 10, 7);  // partial 4x4 blocks at the edges
+    EXPECT_EQ(s.ray_count, 70u);
+    EXPECT_EQ(s.packets.size(), 3u * 2u);
+    std::set<std::uint32_t> seen;
+    for (std::size_t slot = 0; slot < s.slots(); ++slot) {
+        if (!s.active(slot)) {
+            EXPECT_EQ(s.pixel[slot], kNoPixel);
+            continue;
+        }
+        EXPECT_TRUE(seen.insert(s.pixel[slot]).second);
+        const std::uint32_t px = s.pixel[slot] % 10, py = s.pixel[slot] / 10;
+        const Ray expected = cam.primary_ray(int(px), int(py), 10, 7);
+        EXPECT_EQ(s.ray(slot).dir, expected.dir);
+    }
+    EXPECT_EQ(seen.size(), 70u);
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(s.packets.data()) % 64, 0u) << "packets are 64-byte aligned";
+}
+
+TEST(RaySet, RejectsBadSizes) {
+    scenes::Camera cam;
+    cam.eye = {0, 0, 5};
+    EXPECT_THROW(make_primary_rays(cam, 0, 10), Error);
+    EXPECT_THROW(parse_mode("secondary"), Error);
+    EXPECT_EQ(parse_mode("ao"), Mode::ao);
+}
+
+TEST(RaySet, SecondaryRaysStartAtPrimaryHits) {
+    WorkloadConfig config;
+    config.scene = "tetra:3";
+    config.width = config.height = 32;
+    config.mode = Mode::ao;
+    config.ao_rays = 16;
+    const Workload w = make_workload(config);
+    std::size_t primary_hits = 0;
+    for (const Hit& h : w.primary_hits) primary_hits += h.hit();
+    ASSERT_GT(primary_hits, 0u);
+    EXPECT_EQ(w.rays.ray_count, primary_hits * 16);
+    const float length = 0.1f * w.source.scene.bounds().diagonal();
+    for (std::size_t slot = 0; slot < w.rays.slots(); ++slot) {
+        if (!w.rays.active(slot)) continue;
+        const Ray r = w.rays.ray(slot);
+        EXPECT_NEAR(beamtrace::length(r.dir), 1.0f, 1e-5f);
+        EXPECT_FLOAT_EQ(r.tfar, length);
+    }
+    // The 16 rays of a pixel fill one packet.
+    for (std::size_t p = 0; p < w.rays.packets.size(); ++p) {
+        EXPECT_EQ(w.rays.packets[p].active, 0xFFFFu);
+        for (int i = 1; i < 16; ++i) EXPECT_EQ(w.rays.pixel[p * 16 + i], w.rays.pixel[p * 16]);
+    }
+    const Workload again = make_workload(config);
+    ASSERT_EQ(again.rays.slots(), w.rays.slots());
+    for (std::size_t slot = 0; slot < w.rays.slots(); ++slot) {  // ray generation is deterministic
+        ASSERT_EQ(again.rays.active(slot), w.rays.active(slot));
+        const Ray a = again.rays.ray(slot), b = w.rays.ray(slot);
+        ASSERT_TRUE(a.org == b.org && a.dir == b.dir && a.tnear == b.tnear && a.tfar == b.tfar) << slot;
+    }
+}
+
+TEST(RaySet, ShadowRaysEndBeforeTheLight) {
+    WorkloadConfig config;
+    config.scene = "sphereflake:1";
+    config.width = config.height = 16;
+    config.mode = Mode::shadow;
+    const Workload w = make_workload(config);
+    ASSERT_GT(w.rays.ray_count, 0u);
+    for (std::size_t slot = 0; slot < w.rays.slots(); ++slot) {
+        if (!w.rays.active(slot)) continue;
+        const Ray r = w.rays.ray(slot);
+        const Float3 end = r.org + r.dir;
+        EXPECT_NEAR(end.x, w.light.x, 1e-3f);
+        EXPECT_LT(r.tfar, 1.0f);
+    }
+}
+
+TEST(Engines, UnknownEngineIsNamed) {
+    try {
+        make_engine("optix");
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("optix"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("kd1"), std::string::npos);
+    }
+}
+
+TEST(Engines, BruteRefusesLargeScenes) {
+    const scenes::SceneSource s = scenes::load_scene("random:100001");
+    auto brute = make_engine("brute");
+    EXPECT_THROW(brute->build(s.scene, EngineOptions{}), Error);
+}
+
+TEST(Bench, ResultsHaveTheJsonContract) {
+    WorkloadConfig config;
+    config.scene = "tetra:2";
+    config.width = config.height = 16;
+    const Workload w = make_workload(config);
+    BenchOptions options;
+    options.engines = {"kd1", "embree1", "embree16", "brute"};
+    options.repeats = 1;
+    const BenchResult r = run_bench(w, options);
+    const nlohmann::json j = to_json(r);
+    for (const char* key : {"scene", "triangles", "mode", "width", "height", "threads", "rays", "engines"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    for (const std::string& name : options.engines) {
+        const auto& e = j["engines"][name];
+        for (const char* key : {"mrays_per_s", "seconds", "build_seconds", "memory_bytes", "hits", "oracle", "stats"})
+            EXPECT_TRUE(e.contains(key)) << name << " " << key;
+        for (const char* key : {"agree", "ties", "grazing", "mismatch"}) EXPECT_TRUE(e["oracle"].contains(key));
+        EXPECT_EQ(e["oracle"]["mismatch"], 0);
+        EXPECT_GT(e["mrays_per_s"].get<double>(), 0.0);
+    }
+    EXPECT_EQ(j["rays"], 256);
+    EXPECT_EQ(j["engines"]["kd1"]["hits"], j["engines"]["embree1"]["hits"]);
+    EXPECT_TRUE(j["engines"]["kd1"]["stats"].contains("inner_steps_per_ray"));
+    EXPECT_EQ(to_table(r).rows(), 4u);
+}
