@@ -2,7 +2,9 @@
 // The whole public API.
 #include "beamtrace/error.hpp"
 #include "beamtrace/kdtree.hpp"
+#include "beamtrace/mlrta.hpp"
 #include "beamtrace/ray.hpp"
 #include "beamtrace/scene.hpp"
 #include "beamtrace/stats.hpp"
 #include "beamtrace/vec.hpp"
+#include "beamtrace/vlf.hpp"

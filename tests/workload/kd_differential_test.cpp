@@ -1,4 +1,4 @@
-// kd1 (and brute, where the scene is small) against the Embree oracle: every procedural scene and
+// kd1, kd16 and mlrta (and brute, where the scene is small) against the Embree oracle: every procedural scene and
 // the shared meshes, from outside and inside cameras, a camera grazing along the floor, a camera on
 // a split plane, random rays; primary, shadow and ao rays. Zero `mismatch` everywhere.
 #include <gtest/gtest.h>
@@ -69,7 +69,7 @@ TEST_P(Differential, EnginesAgreeWithEmbree) {
     if (c.file && !std::filesystem::exists(path)) GTEST_SKIP() << "shared scene not found: " << path;
     scenes::SceneSource source = scenes::load_scene(path);
     std::vector<std::unique_ptr<Engine>> engines;
-    engines.push_back(make_engine("kd1"));
+    for (const char* name : {"kd1", "kd16", "mlrta"}) engines.push_back(make_engine(name));
     if (source.scene.triangle_count() <= 5000) engines.push_back(make_engine("brute"));
     for (auto& e : engines) e->build(source.scene, EngineOptions{});
 

@@ -17,6 +17,10 @@ struct BenchArgs {
     SceneOptions scene;
     std::string light, mode = "primary", engines, json, markdown;
     int ao_rays = 16, repeats = 3;
+    std::string mlrta_frustum = "inverse";
+    MlrtaSettings mlrta;
+    VlfOptions vlf;
+    std::string ao_dirs = "random";
 };
 
 std::vector<std::string> split_list(const std::string& text) {
@@ -58,6 +62,16 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--engines", args->engines, "comma-separated engines: " + names)->required();
     cmd->add_option("--ao-rays", args->ao_rays, "occlusion rays per pixel in ao mode")->capture_default_str()->check(CLI::Range(1, 4096));
     cmd->add_option("--repeats", args->repeats, "timed runs per engine (the best is reported)")->capture_default_str()->check(CLI::Range(1, 1000));
+    cmd->add_option("--mlrta-tile", args->mlrta.initial_tile, "mlrta: initial tile size in pixels (ITS)")->capture_default_str();
+    cmd->add_option("--mlrta-split", args->mlrta.split_factor, "mlrta: sub-tiles per split (SF), 4 or 16")->capture_default_str();
+    cmd->add_option("--mlrta-min-tile", args->mlrta.min_tile, "mlrta: minimum tile size in pixels (MTS)")->capture_default_str();
+    cmd->add_option("--mlrta-frustum", args->mlrta_frustum, "mlrta: entry-point culling, inverse | direct")->capture_default_str();
+    cmd->add_flag("!--no-triangle-culling", args->mlrta.triangle_culling, "kd16/mlrta: test every triangle of a leaf (no box culling)");
+    cmd->add_option("--vlf-dirs", args->vlf.directions, "vlf: beam directions l (2 m^2 + 1: 33, 129, 513, ...)")->capture_default_str();
+    cmd->add_option("--vlf-tiles", args->vlf.tiles, "vlf: tiles per side n of each parallel subfield")->capture_default_str();
+    cmd->add_option("--vlf-depth", args->vlf.depth, "vlf: tile-BSP depth d (0 = one leaf per tile)")->capture_default_str();
+    cmd->add_flag("--vlf-eager", args->vlf.eager, "vlf: build every parallel subfield before tracing (default: on first use)");
+    cmd->add_option("--ao-dirs", args->ao_dirs, "ao mode: random (stratified, cosine weighted) | psf (VLF-RT's --vlf-dirs directions)")->capture_default_str();
     cmd->add_option("--json", args->json, "write the results as JSON to this file");
     cmd->add_option("--markdown", args->markdown, "write the table as Markdown to this file");
     return [args] {
@@ -69,11 +83,19 @@ std::function<void()> add_bench_command(CLI::App& app) {
         wc.width = args->scene.width;
         wc.height = args->scene.height;
         wc.ao_rays = args->ao_rays;
+        wc.ao_directions = workload::AoDirections{workload::parse_ao_directions(args->ao_dirs), args->vlf.directions};
         workload::BenchOptions bo;
         bo.engines = split_list(args->engines);
         bo.threads = args->scene.threads;
         bo.repeats = args->repeats;
         bo.progress = true;
+        if (args->mlrta_frustum != "inverse" && args->mlrta_frustum != "direct")
+            throw Error("--mlrta-frustum must be inverse or direct, not '" + args->mlrta_frustum + "'");
+        args->mlrta.frustum_test = args->mlrta_frustum == "direct" ? FrustumTest::direct : FrustumTest::inverse;
+        args->mlrta.validate();
+        bo.engine_options.mlrta = args->mlrta;
+        args->vlf.validate();
+        bo.engine_options.vlf = args->vlf;
         for (const std::string& e : bo.engines) workload::make_engine(e);  // reject unknown names before loading
         const workload::Workload w = workload::make_workload(wc);
         const workload::BenchResult result = workload::run_bench(w, bo);

@@ -10,7 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "beamtrace/kdtree.hpp"
+#include "beamtrace/mlrta.hpp"
 #include "beamtrace/scene.hpp"
+#include "beamtrace/vlf.hpp"
 #include "workload/ray_set.hpp"
 
 namespace beamtrace::workload {
@@ -18,6 +20,8 @@ namespace beamtrace::workload {
 // Settings engines may use; each engine reads what concerns it.
 struct EngineOptions {
     KdBuildRules kd_rules;
+    MlrtaSettings mlrta;
+    VlfOptions vlf;  // vlf, vlf-fast: directions, tiles, depth, eager
     // Progress of long builds in [0, 1]; may be empty.
     std::function<void(double)> build_progress;
 };
@@ -38,7 +42,7 @@ public:
     virtual nlohmann::json stats(const RaySet& rays) const = 0;
 };
 
-// Every engine name, in the order of the table: embree1, embree16, brute, kd1.
+// Every engine name, in the order of the table: embree1, embree16, brute, kd1, kd16, mlrta, ...
 const std::vector<std::string>& engine_names();
 // Throws beamtrace::Error naming the known engines for an unknown name.
 std::unique_ptr<Engine> make_engine(const std::string& name);

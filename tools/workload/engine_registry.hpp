@@ -9,5 +9,8 @@ namespace beamtrace::workload {
 std::unique_ptr<Engine> make_embree_engine(bool packets);
 std::unique_ptr<Engine> make_brute_engine();
 std::unique_ptr<Engine> make_kd1_engine();
+std::unique_ptr<Engine> make_kd16_engine();
+std::unique_ptr<Engine> make_mlrta_engine();
+std::unique_ptr<Engine> make_vlf_engine(bool fast);
 
 }  // namespace beamtrace::workload

@@ -1,8 +1,10 @@
 #include "workload/ray_set.hpp"
 
 #include <cmath>
+#include <memory>
 
 #include "beamtrace/error.hpp"
+#include "beamtrace/vlf.hpp"
 
 namespace beamtrace::workload {
 
@@ -31,6 +33,8 @@ RaySet make_primary_rays(const scenes::Camera& camera, int width, int height) {
     set.width = width;
     set.height = height;
     const int bx = (width + 3) / 4, by = (height + 3) / 4;
+    set.packets_x = bx;
+    set.packets_y = by;
     set.packets.resize(std::size_t(bx) * std::size_t(by));
     set.pixel.assign(set.packets.size() * 16, kNoPixel);
     for (int ty = 0; ty < by; ++ty)
@@ -112,6 +116,29 @@ std::uint32_t hash(std::uint32_t x) {
 }
 float unit_float(std::uint32_t h) { return float(h >> 8) * (1.0f / 16777216.0f); }
 
+// The set's direction nearest to d, pointing d's way along its line.
+Float3 snap_to_set(const DirectionSet& set, Float3 d) {
+    const DirectionSet::Nearest near = set.nearest(d);
+    const Float3 w = set.direction(int(near.index));
+    return near.reversed ? w * -1.0f : w;
+}
+
+// An AO direction of the set, inside the hemisphere of n: the one nearest to the sample d, or, if
+// that one lies below the horizon, the nearest to a fresh cosine-weighted sample (a few tries), or
+// finally the set's direction nearest to n itself.
+Float3 psf_direction(const DirectionSet& set, Float3 d, Float3 n, std::uint32_t h) {
+    Float3 w = snap_to_set(set, d);
+    const Float3 a = std::fabs(n.x) > 0.5f ? Float3{0, 1, 0} : Float3{1, 0, 0};
+    const Float3 t = normalize(cross(a, n)), b = cross(n, t);
+    for (std::uint32_t attempt = 1; dot(w, n) <= 0.0f && attempt <= 16; ++attempt) {
+        const std::uint32_t g = hash(h + attempt * 0x9e3779b9u);
+        const float u1 = unit_float(g), r = std::sqrt(u1), phi = 6.28318531f * unit_float(hash(g));
+        const float z = std::sqrt(std::max(0.0f, 1.0f - u1));
+        w = snap_to_set(set, normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * z));
+    }
+    return dot(w, n) > 0.0f ? w : snap_to_set(set, n);
+}
+
 }  // namespace
 
 RaySet make_random_rays(const Box& box, std::size_t count, unsigned seed, Mode mode) {
@@ -140,11 +167,16 @@ RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::ve
     set.width = primary.width;
     set.height = primary.height;
     const float offset = surface_offset(scene);
-    // Shadow rays of one 4x4 block of pixels stay together in one packet (coherent, like the paper's beams).
-    PacketWriter writer(set);
+    set.packets_x = primary.packets_x;
+    set.packets_y = primary.packets_y;
+    set.packets.resize(primary.packets.size());
+    set.pixel.assign(primary.slots(), kNoPixel);
+    const Ray idle{{0, 0, 0}, 0.0f, {0, 0, 1}, 0.0f};
     for (std::size_t p = 0; p < primary.packets.size(); ++p) {
-        writer.close();
+        Packet16& packet = set.packets[p];
+        packet.active = 0;
         for (int lane = 0; lane < 16; ++lane) {
+            packet.set_ray(lane, idle);
             const std::size_t slot = p * 16 + std::size_t(lane);
             if (!primary.active(slot) || !hits[slot].hit()) continue;
             const Ray pr = primary.ray(slot);
@@ -157,14 +189,26 @@ RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::ve
             if (!(dot(r.dir, r.dir) > 0.0f)) continue;  // the light sits on the surface point
             r.tnear = 0.0f;
             r.tfar = 1.0f - 1e-4f;
-            writer.add(r, primary.pixel[slot]);
+            packet.set_ray(lane, r);
+            packet.active |= 1u << lane;
+            set.pixel[slot] = primary.pixel[slot];
+            ++set.ray_count;
         }
     }
     return set;
 }
 
-RaySet make_ao_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits, int ao_rays) {
+AoDirections::Source parse_ao_directions(const std::string& text) {
+    if (text == "random") return AoDirections::Source::random;
+    if (text == "psf") return AoDirections::Source::psf;
+    throw Error("unknown AO directions '" + text + "' (expected random or psf)");
+}
+
+RaySet make_ao_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits, int ao_rays,
+                    const AoDirections& directions) {
     check_hits(primary, hits);
+    const std::unique_ptr<DirectionSet> psf =
+        directions.source == AoDirections::Source::psf ? std::make_unique<DirectionSet>(directions.psf_directions) : nullptr;
     if (ao_rays <= 0 || ao_rays > 4096) throw Error("--ao-rays must be between 1 and 4096");
     RaySet set;
     set.mode = Mode::ao;
@@ -193,6 +237,7 @@ RaySet make_ao_rays(const Scene& scene, const RaySet& primary, const std::vector
             Ray ray;
             ray.org = s.position + n * offset;
             ray.dir = normalize(t * x + b * y + n * z);
+            if (psf) ray.dir = psf_direction(*psf, ray.dir, n, h);
             ray.tnear = 0.0f;
             ray.tfar = length;
             writer.add(ray, primary.pixel[slot]);

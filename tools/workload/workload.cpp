@@ -60,7 +60,7 @@ Workload make_workload(scenes::SceneSource source, const WorkloadConfig& config)
             w.reference_occluded = oracle_occlusion(*w.oracle, w.rays);
             break;
         case Mode::ao:
-            w.rays = make_ao_rays(scene, w.primary, w.primary_hits, config.ao_rays);
+            w.rays = make_ao_rays(scene, w.primary, w.primary_hits, config.ao_rays, config.ao_directions);
             w.reference_occluded = oracle_occlusion(*w.oracle, w.rays);
             break;
     }

@@ -19,6 +19,7 @@ struct WorkloadConfig {
     Mode mode = Mode::primary;
     int width = 1024, height = 1024;
     int ao_rays = 16;
+    AoDirections ao_directions;             // random (default) or the PSF directions of VLF-RT
 };
 
 struct Workload {

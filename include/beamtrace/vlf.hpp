@@ -1,0 +1,149 @@
+#pragma once
+// VLF-RT (Mortensen, Khanna, Yu, Slater: "A Visibility Field for Ray Tracing", CGIV 2007): a set of
+// beam directions over the hemisphere; for each direction a parallel subfield (PSF), an n x n grid
+// of parallel beams ("tiles") over the scene's bounding sphere, each tile holding the triangles its
+// beam meets, sorted along the beam by a 1D BSP (the tile-BSP). A ray looks up the PSF nearest its
+// direction in constant time, walks the tiles its segment crosses front to back, and in each tile
+// the tile-BSP leaves its segment spans, near to far.
+//
+// Mode exact walks every tile the ray crosses and answers exactly as the kd-tree does (same
+// watertight triangle test, bit for bit). Mode fast uses only the tile where the ray's segment
+// starts (the paper's first description, section 3.3) and can miss hits.
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+
+#include "beamtrace/ray.hpp"
+#include "beamtrace/scene.hpp"
+#include "beamtrace/vec.hpp"
+
+namespace beamtrace {
+
+// The beam directions Omega_l: l unit directions spread evenly over the upper hemisphere (z >= 0).
+// Each stands for a line, so a direction d and -d share one PSF. Built as the grid points of an
+// equal-area octahedral map of the hemisphere (half of the rim kept), which gives l = 2 m^2 + 1
+// directions for m = 1..32 (9, 33, 129, 513, 2049 among them). nearest() takes constant time: a
+// table over the hemisphere gives each cell the few directions that can be nearest within it.
+class DirectionSet {
+public:
+    static constexpr int kDefaultCount = 513;
+    // Throws beamtrace::Error naming the valid counts if count is not 2 m^2 + 1 with 1 <= m <= 32.
+    explicit DirectionSet(int count = kDefaultCount);
+    static bool valid_count(int count);
+
+    int size() const;
+    // Unit direction i (z >= 0; the half of the rim that is kept has y > 0, or y == 0 and x > 0).
+    Float3 direction(int i) const;
+
+    struct Nearest {
+        std::uint32_t index = 0;  // the direction whose line makes the smallest angle with dir
+        bool reversed = false;    // dir points along -direction(index)
+    };
+    // dir need not be normalised but must not be zero.
+    Nearest nearest(Float3 dir) const;
+
+    // Largest number of directions the lookup compares for one query (all queries compare this many).
+    int candidates_per_lookup() const;
+    std::size_t memory_bytes() const;
+
+    struct Impl;
+    const Impl& impl() const { return *impl_; }
+
+private:
+    std::shared_ptr<const Impl> impl_;
+};
+
+enum class VlfMode { exact, fast };
+
+struct VlfOptions {
+    int directions = DirectionSet::kDefaultCount;  // l
+    int tiles = 128;                               // n: n x n tiles per PSF
+    int depth = 4;                                 // d: tile-BSP depth, 0 = one leaf per tile
+    bool eager = false;                            // build every PSF now (else each on first use)
+    // The volume triangles may occupy, now and after dynamic updates. Default: the scene's box.
+    std::optional<Box> bounds;
+    // Throws beamtrace::Error naming the bad setting.
+    void validate() const;
+};
+
+// Build statistics; PSFs are built on first use, so these grow as queries need more directions.
+struct VlfStats {
+    int directions = 0, tiles = 0, depth = 0;
+    std::size_t psfs_built = 0;
+    std::size_t tile_entries = 0;    // triangle ids over every leaf of every built PSF
+    std::size_t leaves = 0;          // tile-BSP leaves over every built PSF
+    std::size_t memory_bytes = 0;    // built PSFs, direction table, the field's copy of the triangles
+    double build_seconds = 0.0;      // over every PSF built so far (lazy builds included)
+};
+
+// Work counters of queries (only the counting calls gather them).
+struct VlfCounters {
+    std::uint64_t rays = 0;
+    std::uint64_t tiles = 0;           // tiles visited (empty ones included)
+    std::uint64_t leaves = 0;          // tile-BSP leaves visited
+    std::uint64_t triangle_tests = 0;  // ray/triangle tests (each triangle at most once per ray)
+    VlfCounters& operator+=(const VlfCounters& o) {
+        rays += o.rays; tiles += o.tiles; leaves += o.leaves; triangle_tests += o.triangle_tests;
+        return *this;
+    }
+};
+
+// A 3x4 affine map p -> m * p + t (row-major m), applied to triangle corners in float.
+struct Affine3 {
+    float m[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    Float3 t;
+    Float3 apply(Float3 p) const {
+        return {m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + t.x,
+                m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + t.y,
+                m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + t.z};
+    }
+};
+
+class VisibilityField {
+public:
+    // progress (optional) reports the eager build in [0, 1]. Throws beamtrace::Error for bad options.
+    using Progress = std::function<void(double)>;
+    explicit VisibilityField(const Scene& scene, const VlfOptions& options = {}, const Progress& progress = {});
+    ~VisibilityField();
+    VisibilityField(VisibilityField&&) noexcept;
+    VisibilityField& operator=(VisibilityField&&) noexcept;
+
+    // Closest hit / any hit within [ray.tnear, ray.tfar]. Thread-safe (PSFs are built under a lock
+    // the first time a query needs them).
+    Hit intersect(const Ray& ray, VlfMode mode = VlfMode::exact) const;
+    bool occluded(const Ray& ray, VlfMode mode = VlfMode::exact) const;
+    Hit intersect(const Ray& ray, VlfMode mode, VlfCounters& counters) const;
+    bool occluded(const Ray& ray, VlfMode mode, VlfCounters& counters) const;
+    // 4x4 packets: the lookups of the 16 rays (direction, canonical ray, first tile) run as SIMD,
+    // then each ray walks its own tiles. Inactive rays report no hit. Returns bit i = ray i occluded.
+    void intersect(const Packet16& packet, PacketHits16& hits, VlfMode mode = VlfMode::exact) const;
+    std::uint32_t occluded(const Packet16& packet, VlfMode mode = VlfMode::exact) const;
+
+    // Builds every PSF not built yet (TBB, all cores), reporting progress in [0, 1].
+    void build_all(const Progress& progress = {});
+
+    // Dynamic scenes (section 8): take triangles out of every built PSF, move them, put them back.
+    // Each updates the built PSFs in place; PSFs built later see the current geometry. Not to be
+    // called while queries run. Throws beamtrace::Error for an id out of range, removing a triangle
+    // twice, inserting one that is in, transforming one that is in, or inserting one outside bounds.
+    void remove(std::span<const std::uint32_t> ids);
+    void transform(std::span<const std::uint32_t> ids, const Affine3& map);
+    void insert(std::span<const std::uint32_t> ids);
+    // Current corners of every triangle (removed ones included) and whether it is in the field.
+    std::span<const Triangle> triangles() const;
+    bool contains(std::uint32_t id) const;
+
+    const DirectionSet& directions() const;
+    const VlfOptions& options() const;
+    VlfStats stats() const;
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace beamtrace

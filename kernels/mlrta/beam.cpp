@@ -1,0 +1,97 @@
+#include "mlrta/beam.hpp"
+
+#include <cmath>
+
+namespace beamtrace::mlrta {
+
+namespace {
+
+bool positive(float v) { return !std::signbit(v); }
+
+void extend(Interval& i, float v, bool first) {
+    if (first) i = {v, v};
+    else i = {std::min(i.lo, v), std::max(i.hi, v)};
+}
+
+int dominant_axis(Float3 d) {
+    const float ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
+    return ax >= ay ? (ax >= az ? 0 : 2) : (ay >= az ? 1 : 2);
+}
+
+}  // namespace
+
+void Beam::add(const Ray& ray) {
+    const bool first = empty;
+    if (first) {
+        for (int k = 0; k < 3; ++k) sign[k] = positive(ray.dir[k]) ? 1 : -1;
+        coherent = true;
+        main_axis = dominant_axis(ray.dir);
+    }
+    for (int k = 0; k < 3; ++k) {
+        if (ray.dir[k] == 0.0f || (positive(ray.dir[k]) ? 1 : -1) != sign[k]) coherent = false;
+    }
+    starts.extend(ray.org + ray.dir * ray.tnear);
+    if (coherent) {
+        for (int k = 0; k < 3; ++k)
+            for (int j = 0; j < 3; ++j) extend(slope[k][j], j == k ? 1.0f : ray.dir[j] / ray.dir[k], first);
+        const float scale = std::fabs(ray.dir[main_axis]);
+        extend(length, (ray.tfar - ray.tnear) * scale, first);
+    }
+    empty = false;
+    ++rays;
+}
+
+void Beam::add(const Packet16& packet) {
+    for (std::uint32_t m = packet.active; m; m &= m - 1) add(packet.ray(__builtin_ctz(m)));
+}
+
+void Beam::merge(const Beam& o) {
+    if (o.empty) return;
+    if (empty) {
+        const float keep_pad = pad;
+        *this = o;
+        pad = std::max(keep_pad, o.pad);
+        return;
+    }
+    for (int k = 0; k < 3; ++k)
+        if (o.sign[k] != sign[k]) coherent = false;
+    coherent = coherent && o.coherent && o.main_axis == main_axis;
+    starts.extend(o.starts);
+    if (coherent) {
+        for (int k = 0; k < 3; ++k)
+            for (int j = 0; j < 3; ++j) slope[k][j] = hull(slope[k][j], o.slope[k][j]);
+        length = hull(length, o.length);
+    }
+    pad = std::max(pad, o.pad);
+    rays += o.rays;
+}
+
+void Beam::set_scene_scale(const Box& b) {
+    float scale = b.diagonal();
+    for (int k = 0; k < 3; ++k) scale = std::max({scale, std::fabs(b.lower[k]), std::fabs(b.upper[k])});
+    pad = std::ldexp(scale, -20);
+}
+
+Interval Beam::plane_range(int k, float p, int j) const {
+    const Interval offset = widen({p - starts.upper[k], p - starts.lower[k]}, pad);
+    const Interval along = widen(offset * slope[k][j], pad);
+    return widen(Interval{starts.lower[j], starts.upper[j]} + along, pad);
+}
+
+Interval Beam::plane_t(int k, float p) const {
+    // t' = (p - start_k) / (dir_k / |dir_main|) with dir_k / |dir_main| = slope[main][k] * sign[main].
+    const Interval offset = widen({p - starts.upper[k], p - starts.lower[k]}, pad);
+    const Interval s = slope[main_axis][k];
+    const float m = float(sign[main_axis]);
+    const Interval per_unit = m > 0 ? Interval{1.0f / s.hi, 1.0f / s.lo} : Interval{-1.0f / s.lo, -1.0f / s.hi};
+    return widen(offset * Interval{std::min(per_unit.lo, per_unit.hi), std::max(per_unit.lo, per_unit.hi)}, pad);
+}
+
+Beam pinhole_beam(Float3 eye, Float3 base, Float3 du, Float3 dv, float x0, float y0, float x1, float y1) {
+    Beam beam;
+    for (float y : {y0, y1})
+        for (float x : {x0, x1}) beam.add(Ray{eye, 0.0f, base + du * x + dv * y, kInfinity});
+    return beam;
+}
+
+}  // namespace beamtrace::mlrta

@@ -1,0 +1,21 @@
+#pragma once
+// Entry-point (EP) search with the bifurcation stack (MLRTA section 4.1, steps 1-3 and the
+// termination conditions (4)): the deepest node from which every ray of a beam can start.
+#include <cstdint>
+
+#include "mlrta/beam.hpp"
+#include "mlrta/entry_point.hpp"
+#include "mlrta/mlrta_impl.hpp"
+
+namespace beamtrace::mlrta {
+
+// Depth first from `start` with frustum culling; bifurcation nodes (both children possible) are
+// stacked until the first leaf with potential intersections, the candidate. Then each stacked node,
+// from the top, has its other subtree searched for another such leaf; if one exists, that node
+// becomes the candidate. The search ends when the stack is empty, or at once when the first
+// candidate is a flat leaf completely covered by triangles that every ray of the beam must cross
+// within its segment (all rays end there). A beam with no potential leaf at all gets `misses`.
+// `steps` counts the nodes visited.
+EntryPoint entry_point_search(const Mlrta::Impl& m, const Beam& beam, const EntryPoint& start, std::uint64_t& steps);
+
+}  // namespace beamtrace::mlrta

@@ -1,0 +1,262 @@
+#include "mlrta/interval_traversal.hpp"
+
+#include <cfloat>
+#include <cmath>
+
+#include "common/triangle_kernels.hpp"
+#include "common/watertight_ray.hpp"
+#include "mlrta/interval.hpp"
+
+namespace beamtrace::mlrta {
+
+namespace {
+
+constexpr int kStackSize = 64;
+constexpr int kMailboxSize = 64;
+
+// The packet's bounds used to derive every plane interval: origins and reciprocal directions per
+// axis over the active lanes.
+struct PacketBounds {
+    Interval org[3];
+    Interval inv[3];
+    int sign[3];
+    float pad;
+
+    // Range of t at which the active rays cross the plane x_k = p, widened outwards.
+    Interval plane_t(int k, float p) const {
+        const Interval offset = widen({p - org[k].hi, p - org[k].lo}, pad);
+        return widen(offset * inv[k], pad);
+    }
+};
+
+float scene_pad(const Box& b) {
+    float scale = b.diagonal();
+    for (int k = 0; k < 3; ++k) scale = std::max({scale, std::fabs(b.lower[k]), std::fabs(b.upper[k])});
+    return std::ldexp(scale, -20);
+}
+
+// Test (2) of section 3.3 for the packet against a box, limited to parameters in [t0, t1].
+bool packet_misses_box(const PacketBounds& pb, const Box& box, float t0, float t1) {
+    Interval entry[3], exit[3];
+    for (int k = 0; k < 3; ++k) {
+        const bool up = pb.sign[k] > 0;
+        entry[k] = pb.plane_t(k, up ? box.lower[k] : box.upper[k]);
+        exit[k] = pb.plane_t(k, up ? box.upper[k] : box.lower[k]);
+        if (exit[k].hi < t0 || entry[k].lo > t1) return true;
+    }
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            if (a != b && entry[a].lo > exit[b].hi) return true;
+    return false;
+}
+
+struct StackEntry {
+    std::uint32_t node;
+    float c0, c1;
+    Box box;
+};
+
+}  // namespace
+
+EntryPoint root_entry(const Mlrta::Impl& m) {
+    EntryPoint ep;
+    ep.node = 0;
+    ep.box = m.kd().bounds;
+    return ep;
+}
+
+template <bool kOcclusion, bool kCount>
+void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint32_t mask, const EntryPoint& ep,
+                        PacketHits16* hits, std::uint32_t* occluded, MlrtaCounters* counters) {
+    const KdTree::Impl& kd = m.kd();
+    PacketBounds pb;
+    pb.pad = scene_pad(kd.bounds);
+    {
+        const int first = __builtin_ctz(mask);
+        pb.sign[0] = std::signbit(packet.dir_x[first]) ? -1 : 1;
+        pb.sign[1] = std::signbit(packet.dir_y[first]) ? -1 : 1;
+        pb.sign[2] = std::signbit(packet.dir_z[first]) ? -1 : 1;
+    }
+    // Per lane: clip to the entry point's box; lanes that miss it are done.
+    const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
+    const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
+    float c0 = kInfinity, c1 = -kInfinity, tnear_min = kInfinity;
+    bool first_lane = true;
+    for (std::uint32_t bits = mask; bits; bits &= bits - 1) {
+        const int i = __builtin_ctz(bits);
+        float enter = packet.tnear[i], exit = packet.tfar[i];
+        for (int k = 0; k < 3; ++k) {
+            const float inv = 1.0f / dir[k][i];
+            float a = (ep.box.lower[k] - org[k][i]) * inv, b = (ep.box.upper[k] - org[k][i]) * inv;
+            if (a > b) std::swap(a, b);
+            enter = std::max(enter, a);
+            exit = std::min(exit, b);
+            if (first_lane) {
+                pb.org[k] = {org[k][i], org[k][i]};
+                pb.inv[k] = {inv, inv};
+            } else {
+                pb.org[k] = hull(pb.org[k], {org[k][i], org[k][i]});
+                pb.inv[k] = hull(pb.inv[k], {inv, inv});
+            }
+        }
+        first_lane = false;
+        // Rounding of enter/exit is covered by widening the packet interval below.
+        const float slack = (std::fabs(enter) + std::fabs(exit)) * kRelativePad + pb.pad;
+        if (enter > exit + slack) {
+            mask &= ~(1u << i);
+            continue;
+        }
+        c0 = std::min(c0, enter);
+        c1 = std::max(c1, exit);
+        tnear_min = std::min(tnear_min, packet.tnear[i]);
+    }
+    if (mask == 0) return;
+    {
+        const Interval cell = widen({c0, c1}, pb.pad);
+        c0 = std::max(cell.lo, tnear_min);
+        c1 = cell.hi;
+    }
+
+    WatertightPacket16 wp = make_watertight_packet(packet);
+    wp.active = mask;
+    const TriangleKernels& kernels = *kd.kernels;
+    const KdNode* nodes = kd.nodes.data();
+    const std::uint32_t* ids = kd.triangle_ids.data();
+    const Triangle* tris = kd.scene.triangles().data();
+    std::uint32_t mailbox[kMailboxSize];
+    for (std::uint32_t& b : mailbox) b = kNoHit;
+
+    StackEntry stack[kStackSize];
+    int top = 0;
+    std::uint32_t index = ep.node;
+    Box box = ep.box;
+    for (;;) {
+        const KdNode& node = nodes[index];
+        if constexpr (kCount) ++counters->xp_steps;
+        if (!node.is_leaf()) {
+            const int k = node.axis();
+            const float split = node.split;
+            const Interval tp = pb.plane_t(k, split);
+            const bool lower_near = pb.sign[k] > 0;
+            const std::uint32_t lower = index + 1, upper = node.upper_child();
+            Box near_box = box, far_box = box;
+            if (lower_near) {
+                near_box.upper[k] = split;
+                far_box.lower[k] = split;
+            } else {
+                near_box.lower[k] = split;
+                far_box.upper[k] = split;
+            }
+            const std::uint32_t near = lower_near ? lower : upper, far = lower_near ? upper : lower;
+            if (c1 < tp.lo) {  // every ray leaves the cell before reaching the plane
+                index = near;
+                box = near_box;
+            } else if (c0 > tp.hi) {  // every ray reaches the cell only beyond the plane
+                index = far;
+                box = far_box;
+            } else {
+                stack[top++] = StackEntry{far, std::max(c0, tp.lo), c1, far_box};
+                c1 = std::min(c1, tp.hi);
+                index = near;
+                box = near_box;
+            }
+            continue;
+        }
+        const std::uint32_t count = node.triangle_count();
+        float reach = -kInfinity;  // farthest t any active ray may still hit at
+        for (std::uint32_t bits = wp.active; bits; bits &= bits - 1) reach = std::max(reach, wp.tfar[__builtin_ctz(bits)]);
+        if (count > 0 && !packet_misses_box(pb, box, c0, reach)) {
+            const std::uint32_t* leaf = ids + node.offset();
+            for (std::uint32_t j = 0; j < count; ++j) {
+                const std::uint32_t id = leaf[j];
+                std::uint32_t& slot = mailbox[id % kMailboxSize];
+                if (slot == id) continue;  // already tested for every lane: the result cannot change
+                const Triangle& tri = tris[id];
+                if (m.settings.triangle_culling) {  // culled here may still be needed in a later cell
+                    Box tb;
+                    tb.extend(tri.v0); tb.extend(tri.v1); tb.extend(tri.v2);
+                    if (packet_misses_box(pb, tb, c0, reach)) continue;
+                }
+                slot = id;
+                if constexpr (kCount) ++counters->triangle_tests;
+                LaneHits lanes;
+                kernels.packet_x1(wp, tri, lanes);
+                if constexpr (kOcclusion) {
+                    if (lanes.mask) {
+                        *occluded |= lanes.mask;
+                        wp.active &= ~lanes.mask;
+                        if (wp.active == 0) return;
+                    }
+                } else {
+                    for (std::uint32_t b = lanes.mask; b; b &= b - 1) {
+                        const int i = __builtin_ctz(b);
+                        if (lanes.t[i] < hits->t[i]) {
+                            hits->t[i] = lanes.t[i];
+                            hits->triangle[i] = id;
+                            hits->u[i] = lanes.u[i];
+                            hits->v[i] = lanes.v[i];
+                            wp.tfar[i] = lanes.t[i];
+                        }
+                    }
+                }
+            }
+        }
+        // The farthest any active ray still needs to look: cells starting beyond it are skipped.
+        float needed = -kInfinity;
+        for (std::uint32_t bits = wp.active; bits; bits &= bits - 1) needed = std::max(needed, wp.tfar[__builtin_ctz(bits)]);
+        for (;;) {
+            if (top == 0) return;
+            const StackEntry& e = stack[--top];
+            if (e.c0 > needed) continue;
+            index = e.node;
+            c0 = e.c0;
+            c1 = e.c1;
+            box = e.box;
+            break;
+        }
+    }
+}
+
+template <bool kOcclusion, bool kCount>
+void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint& ep, PacketHits16* hits,
+                  std::uint32_t* occluded, MlrtaCounters* counters) {
+    if constexpr (!kOcclusion) {
+        for (int i = 0; i < 16; ++i) hits->set_hit(i, Hit{});
+    } else {
+        *occluded = 0;
+    }
+    if constexpr (kCount) ++counters->packets;
+    if (ep.misses || packet.active == 0) return;
+    std::uint32_t octant_lanes[8] = {};
+    for (std::uint32_t bits = packet.active & 0xFFFFu; bits; bits &= bits - 1) {
+        const int i = __builtin_ctz(bits);
+        // Zero (or denormal, or NaN) components have no usable reciprocal: such rays go alone.
+        if (!(std::fabs(packet.dir_x[i]) >= FLT_MIN && std::fabs(packet.dir_y[i]) >= FLT_MIN &&
+              std::fabs(packet.dir_z[i]) >= FLT_MIN)) {
+            if constexpr (kCount) ++counters->single_rays;
+            const Ray r = packet.ray(i);
+            if constexpr (kOcclusion) {
+                if (m.tree.occluded(r)) *occluded |= 1u << i;
+            } else {
+                hits->set_hit(i, m.tree.intersect(r));
+            }
+            continue;
+        }
+        const int octant = int(std::signbit(packet.dir_x[i])) | (int(std::signbit(packet.dir_y[i])) << 1) |
+                           (int(std::signbit(packet.dir_z[i])) << 2);
+        octant_lanes[octant] |= 1u << i;
+    }
+    for (std::uint32_t lanes : octant_lanes)
+        if (lanes) interval_traversal<kOcclusion, kCount>(m, packet, lanes, ep, hits, occluded, counters);
+}
+
+template void trace_packet<false, false>(const Mlrta::Impl&, const Packet16&, const EntryPoint&, PacketHits16*,
+                                         std::uint32_t*, MlrtaCounters*);
+template void trace_packet<false, true>(const Mlrta::Impl&, const Packet16&, const EntryPoint&, PacketHits16*,
+                                        std::uint32_t*, MlrtaCounters*);
+template void trace_packet<true, false>(const Mlrta::Impl&, const Packet16&, const EntryPoint&, PacketHits16*,
+                                        std::uint32_t*, MlrtaCounters*);
+template void trace_packet<true, true>(const Mlrta::Impl&, const Packet16&, const EntryPoint&, PacketHits16*,
+                                       std::uint32_t*, MlrtaCounters*);
+
+}  // namespace beamtrace::mlrta

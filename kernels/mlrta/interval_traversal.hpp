@@ -1,0 +1,29 @@
+#pragma once
+// Interval traversal of 4x4 packets (MLRTA section 4.3, the "XP search"): from an entry point, one
+// interval [t_cell_min, t_cell_max] for the whole packet, the packet's [t_plane_min, t_plane_max]
+// per split, near / far / both exactly as the paper's pseudo-code, with a stack. At leaves: the
+// slab-pair test (2) against the leaf box, mailboxing, optional triangle-box culling, then the 16
+// rays against each triangle with the watertight SIMD kernel; early exit when every active ray
+// has a hit nearer than the cells left on the stack.
+#include "beamtrace/mlrta.hpp"
+#include "mlrta/entry_point.hpp"
+#include "mlrta/mlrta_impl.hpp"
+
+namespace beamtrace::mlrta {
+
+// Traces the lanes of `packet` selected by `mask` (one sign octant, no zero direction component)
+// from `ep`. Closest hits go to `hits` lanes; for occlusion, bits are or-ed into *occluded.
+template <bool kOcclusion, bool kCount>
+void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint32_t mask, const EntryPoint& ep,
+                        PacketHits16* hits, std::uint32_t* occluded, MlrtaCounters* counters);
+
+// A whole packet from `ep`: lanes with a zero direction component go to the single-ray kd-tree
+// traversal, the others are traced by interval traversal in groups of one sign octant each.
+template <bool kOcclusion, bool kCount>
+void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint& ep, PacketHits16* hits,
+                  std::uint32_t* occluded, MlrtaCounters* counters);
+
+// The root of the tree as an entry point.
+EntryPoint root_entry(const Mlrta::Impl& m);
+
+}  // namespace beamtrace::mlrta

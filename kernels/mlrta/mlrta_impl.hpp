@@ -1,0 +1,20 @@
+#pragma once
+// Mlrta's private state: the tree, its settings, and per-node tables computed once.
+#include <vector>
+
+#include "beamtrace/mlrta.hpp"
+#include "kdtree/kd_node.hpp"
+
+namespace beamtrace {
+
+struct Mlrta::Impl {
+    KdTree tree;
+    MlrtaSettings settings;
+    std::vector<std::uint32_t> subtree_nodes;  // per node: nodes in its subtree (itself included)
+    std::vector<std::uint8_t> covered_leaf;    // per node: a flat leaf completely covered by its triangles
+
+    Impl(const KdTree& t, const MlrtaSettings& s) : tree(t), settings(s) {}
+    const KdTree::Impl& kd() const { return tree.impl(); }
+};
+
+}  // namespace beamtrace

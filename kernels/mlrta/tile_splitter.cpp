@@ -1,0 +1,96 @@
+#include "mlrta/tile_splitter.hpp"
+
+#include <algorithm>
+
+#include "mlrta/entry_point_search.hpp"
+#include "mlrta/interval_traversal.hpp"
+
+namespace beamtrace::mlrta {
+
+template <bool kOcclusion, bool kCount>
+TileSplitter<kOcclusion, kCount>::TileSplitter(const Mlrta::Impl& m, const PacketGrid& grid, PacketHits16* hits,
+                                               std::uint32_t* occluded, MlrtaCounters* counters,
+                                               const TileObserver* observer)
+    : m_(m), grid_(grid), hits_(hits), occluded_(occluded), counters_(counters), observer_(observer) {
+    tile_side_ = std::max(1, m.settings.initial_tile / 4);
+    beams_.resize(std::size_t(tile_side_) * std::size_t(tile_side_));
+}
+
+template <bool kOcclusion, bool kCount>
+const Beam& TileSplitter<kOcclusion, kCount>::packet_beam(int x, int y) const {
+    return beams_[std::size_t(y - tile_y0_) * std::size_t(tile_side_) + std::size_t(x - tile_x0_)];
+}
+
+template <bool kOcclusion, bool kCount>
+void TileSplitter<kOcclusion, kCount>::trace_initial_tile(int x0, int y0) {
+    tile_x0_ = x0;
+    tile_y0_ = y0;
+    const int x1 = std::min(x0 + tile_side_, grid_.columns), y1 = std::min(y0 + tile_side_, grid_.rows);
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            Beam& b = beams_[std::size_t(y - y0) * std::size_t(tile_side_) + std::size_t(x - x0)];
+            b = Beam{};
+            b.set_scene_scale(m_.kd().bounds);
+            b.add(grid_.packets[std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x)]);
+        }
+    trace_tile(x0, y0, x1, y1, root_entry(m_));
+}
+
+template <bool kOcclusion, bool kCount>
+void TileSplitter<kOcclusion, kCount>::trace_tile(int x0, int y0, int x1, int y1, const EntryPoint& ep) {
+    Beam beam;
+    beam.set_scene_scale(m_.kd().bounds);
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) beam.merge(packet_beam(x, y));
+    if (beam.empty) {
+        trace_packets(x0, y0, x1, y1, ep, false);  // no active ray: only clears the results
+        return;
+    }
+    if (!beam.coherent) {
+        trace_packets(x0, y0, x1, y1, ep, true);
+        return;
+    }
+    std::uint64_t steps = 0;
+    const EntryPoint found = entry_point_search(m_, beam, ep, steps);
+    if constexpr (kCount) counters_->ep_steps += steps;
+    const int min_side = std::max(1, m_.settings.min_tile / 4);
+    const bool small = (x1 - x0) <= min_side && (y1 - y0) <= min_side;
+    if (found.misses || small || m_.kd().nodes[found.node].is_leaf()) {
+        trace_packets(x0, y0, x1, y1, found, false);
+        return;
+    }
+    const int parts = m_.settings.split_factor == 4 ? 2 : 4;
+    const int w = x1 - x0, h = y1 - y0;
+    for (int j = 0; j < parts; ++j)
+        for (int i = 0; i < parts; ++i) {
+            const int sx0 = x0 + w * i / parts, sx1 = x0 + w * (i + 1) / parts;
+            const int sy0 = y0 + h * j / parts, sy1 = y0 + h * (j + 1) / parts;
+            if (sx1 > sx0 && sy1 > sy0) trace_tile(sx0, sy0, sx1, sy1, found);
+        }
+}
+
+template <bool kOcclusion, bool kCount>
+void TileSplitter<kOcclusion, kCount>::trace_packets(int x0, int y0, int x1, int y1, const EntryPoint& ep,
+                                                     bool divergent) {
+    if constexpr (kCount) {
+        ++counters_->tiles;
+        if (divergent) ++counters_->divergent_tiles;
+    }
+    if (observer_ && *observer_) {
+        const std::size_t subtree = m_.subtree_nodes[ep.node];
+        (*observer_)(TileInfo{x0, y0, x1, y1, ep.node, ep.misses ? 0 : subtree, divergent});
+    }
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x);
+            trace_packet<kOcclusion, kCount>(m_, grid_.packets[p], ep, kOcclusion ? nullptr : hits_ + p,
+                                             kOcclusion ? occluded_ + p : nullptr, counters_);
+        }
+}
+
+template class TileSplitter<false, false>;
+template class TileSplitter<false, true>;
+template class TileSplitter<true, false>;
+template class TileSplitter<true, true>;
+
+}  // namespace beamtrace::mlrta

@@ -1,0 +1,41 @@
+#pragma once
+// Adaptive tile splitting (MLRTA section 4.2): a tile of packets becomes a beam; its entry point is
+// searched from its parent's; it is split into SF sub-tiles until its entry point is a leaf or it is
+// no larger than the minimum tile size, then its packets are traced by interval traversal from that
+// entry point. Tiles whose rays diverge in sign go straight to XP search from the parent's entry
+// point (for their coherent sub-groups).
+#include <vector>
+
+#include "beamtrace/mlrta.hpp"
+#include "mlrta/beam.hpp"
+#include "mlrta/entry_point.hpp"
+#include "mlrta/mlrta_impl.hpp"
+
+namespace beamtrace::mlrta {
+
+template <bool kOcclusion, bool kCount>
+class TileSplitter {
+public:
+    // Per-packet beams are computed once per initial tile and merged for sub-tiles.
+    TileSplitter(const Mlrta::Impl& m, const PacketGrid& grid, PacketHits16* hits, std::uint32_t* occluded,
+                 MlrtaCounters* counters, const TileObserver* observer);
+
+    // Traces the initial tile with its top-left packet (x0, y0), ITS / 4 packets on a side.
+    void trace_initial_tile(int x0, int y0);
+
+private:
+    void trace_tile(int x0, int y0, int x1, int y1, const EntryPoint& ep);
+    void trace_packets(int x0, int y0, int x1, int y1, const EntryPoint& ep, bool divergent);
+    const Beam& packet_beam(int x, int y) const;
+
+    const Mlrta::Impl& m_;
+    PacketGrid grid_;
+    PacketHits16* hits_;
+    std::uint32_t* occluded_;
+    MlrtaCounters* counters_;
+    const TileObserver* observer_;
+    int tile_x0_ = 0, tile_y0_ = 0, tile_side_ = 0;
+    std::vector<Beam> beams_;  // of the packets of the current initial tile
+};
+
+}  // namespace beamtrace::mlrta

@@ -1,0 +1,19 @@
+#pragma once
+// One ray's walk through the PSF its lookup chose, in either mode: shared by the single-ray and the
+// packet queries of VisibilityField.
+#include "vlf/tile_walk.hpp"
+#include "vlf/vlf_impl.hpp"
+
+namespace beamtrace::vlf {
+
+template <bool kOcclusion, bool kCount>
+Hit walk_field(const VisibilityField::Impl& f, const ParallelSubfield& psf, const CanonicalRay& cr, const Ray& ray,
+               VlfMode mode, VlfCounters* counters) {
+    Mailbox& mailbox = Mailbox::local();
+    mailbox.begin(f.triangles.size());
+    const WalkContext ctx{&f.grid, f.triangles.data(), f.kernels};
+    if (mode == VlfMode::fast) return TileWalk<kOcclusion, true, kCount>(psf, ctx, ray, mailbox, counters).run(cr);
+    return TileWalk<kOcclusion, false, kCount>(psf, ctx, ray, mailbox, counters).run(cr);
+}
+
+}  // namespace beamtrace::vlf

@@ -1,0 +1,55 @@
+// Packet queries: the 16 lookups at once, then each ray's own walk.
+#include <cmath>
+
+#include "vlf/direction_set_impl.hpp"
+#include "vlf/field_query.hpp"
+#include "vlf/packet_lookup.hpp"
+
+namespace beamtrace {
+namespace {
+
+// The lookups lane by lane, exactly as a single-ray query makes them.
+void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::PacketLookup& out) {
+    out.valid = 0;
+    for (std::uint32_t m = p.active; m; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        const float s = std::fabs(p.dir_x[i]) + std::fabs(p.dir_y[i]) + std::fabs(p.dir_z[i]);
+        if (!(s > 0.0f && s < kInfinity)) continue;
+        const auto nearest = f.directions.impl().nearest(p.dir_x[i], p.dir_y[i], p.dir_z[i]);
+        vlf::CanonicalRay cr;
+        if (!vlf::make_canonical_ray(f.frames[nearest.index], f.grid, f.clip_radius, p.ray(i), cr)) continue;
+        out.psf[i] = nearest.index;
+        out.ox[i] = cr.ox; out.oy[i] = cr.oy; out.oz[i] = cr.oz;
+        out.dx[i] = cr.dx; out.dy[i] = cr.dy; out.dz[i] = cr.dz;
+        out.t0[i] = cr.t0; out.t1[i] = cr.t1;
+        out.valid |= 1u << i;
+    }
+}
+
+}  // namespace
+
+void VisibilityField::intersect(const Packet16& packet, PacketHits16& hits, VlfMode mode) const {
+    const Impl& f = *impl_;
+    vlf::PacketLookup lookup;
+    lookup_lanes(f, packet, lookup);
+    for (int i = 0; i < 16; ++i) hits.set_hit(i, Hit{});
+    for (std::uint32_t m = lookup.valid; m; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        hits.set_hit(i, vlf::walk_field<false, false>(f, f.psf(lookup.psf[i]), lookup.ray(i), packet.ray(i), mode, nullptr));
+    }
+}
+
+std::uint32_t VisibilityField::occluded(const Packet16& packet, VlfMode mode) const {
+    const Impl& f = *impl_;
+    vlf::PacketLookup lookup;
+    lookup_lanes(f, packet, lookup);
+    std::uint32_t bits = 0;
+    for (std::uint32_t m = lookup.valid; m; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        if (vlf::walk_field<true, false>(f, f.psf(lookup.psf[i]), lookup.ray(i), packet.ray(i), mode, nullptr).hit())
+            bits |= 1u << i;
+    }
+    return bits;
+}
+
+}  // namespace beamtrace

@@ -1,0 +1,207 @@
+// ParallelSubfield: build (rasterise every triangle, sort the tile entries, build each tile's BSP)
+// and the in-place updates of dynamic scenes.
+#include "vlf/parallel_subfield.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "vlf/tile_rasteriser.hpp"
+
+namespace beamtrace::vlf {
+
+namespace {
+
+// A depth range widened by pad and rounded outwards to float.
+DepthItem depth_item(std::uint32_t id, double zlo, double zhi, double pad) {
+    const double lo = zlo - pad, hi = zhi + pad;
+    float flo = float(lo), fhi = float(hi);
+    if (double(flo) > lo) flo = std::nextafter(flo, -INFINITY);
+    if (double(fhi) < hi) fhi = std::nextafter(fhi, INFINITY);
+    return DepthItem{id, flo, fhi};
+}
+
+}  // namespace
+
+ParallelSubfield::ParallelSubfield(const CanonicalFrame& frame, const SubfieldInput& input)
+    : frame_(frame), grid_(*input.grid), depth_(input.depth), bsp_(input.depth) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t n = std::size_t(grid_.n), tiles = n * n;
+    const std::size_t count = input.triangles.size();
+    tiles_.assign(tiles, TileRef{});
+    room_.assign(tiles, 0);
+
+    // Canonical corners of every triangle in the field, then the tiles each one touches.
+    std::vector<Vec3d> canon(3 * count);
+    for (std::size_t id = 0; id < count; ++id)
+        if (input.present[id]) corners(input, std::uint32_t(id), &canon[3 * id]);
+    std::vector<std::uint32_t> first(tiles + 1, 0);
+    std::vector<std::uint64_t> pairs;
+    pairs.reserve(2 * count);
+    TileRasteriser rasteriser(grid_);
+    for (std::size_t id = 0; id < count; ++id) {
+        if (!input.present[id]) continue;
+        rasteriser.rasterise(&canon[3 * id], [&](int c, int r) {
+            const std::size_t tile = std::size_t(r) * n + std::size_t(c);
+            pairs.push_back((std::uint64_t(tile) << 32) | id);
+            ++first[tile + 1];
+        });
+    }
+    // Counting sort by tile (ids stay ascending within a tile).
+    for (std::size_t t = 0; t < tiles; ++t) first[t + 1] += first[t];
+    std::vector<std::uint32_t> ids(pairs.size()), next(first.begin(), first.end() - 1);
+    for (std::uint64_t p : pairs) ids[next[p >> 32]++] = std::uint32_t(p);
+    pairs = {};
+
+    // Each tile's triangles clipped to its prism, then its BSP.
+    for (std::size_t t = 0; t < tiles; ++t) {
+        if (first[t] == first[t + 1]) continue;
+        const Prism box = prism(std::uint32_t(t));
+        items_.clear();
+        for (std::uint32_t k = first[t]; k < first[t + 1]; ++k) {
+            double zlo, zhi;
+            if (clip_to_prism(&canon[3 * std::size_t(ids[k])], box, zlo, zhi))
+                items_.push_back(depth_item(ids[k], zlo, zhi, grid_.pad));
+        }
+        if (items_.empty()) continue;
+        const std::uint32_t leaves = bsp_.build(items_, block_);
+        tiles_[t] = TileRef{std::uint32_t(pool_.size()), leaves};
+        room_[t] = std::uint32_t(block_.size());
+        pool_.insert(pool_.end(), block_.begin(), block_.end());
+        entries_ += block_.size() - (2 * std::size_t(leaves) - 1);
+        leaves_ += leaves;
+    }
+    pool_.shrink_to_fit();
+    build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+Prism ParallelSubfield::prism(std::uint32_t tile) const {
+    const int c = int(tile % std::uint32_t(grid_.n)), r = int(tile / std::uint32_t(grid_.n));
+    const double x0 = grid_.edge(c), y0 = grid_.edge(r), pad = grid_.pad;
+    return Prism{x0 - pad, x0 + grid_.h + pad, y0 - pad, y0 + grid_.h + pad};
+}
+
+void ParallelSubfield::corners(const SubfieldInput& input, std::uint32_t id, Vec3d* out) const {
+    const Triangle& t = input.triangles[id];
+    out[0] = frame_.point(t.v0, grid_);
+    out[1] = frame_.point(t.v1, grid_);
+    out[2] = frame_.point(t.v2, grid_);
+}
+
+void ParallelSubfield::tile_ids(std::uint32_t tile, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    const TileRef ref = tiles_[tile];
+    if (ref.leaves == 0) return;
+    const TileBspView v = view(ref);
+    out.assign(v.ids(), v.ids() + v.end(ref.leaves - 1));
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+void ParallelSubfield::rebuild_tile(std::uint32_t tile, std::span<const std::uint32_t> ids, const SubfieldInput& input) {
+    TileRef& ref = tiles_[tile];
+    if (ref.leaves > 0) {
+        const TileBspView old = view(ref);
+        entries_ -= old.end(ref.leaves - 1);
+        leaves_ -= ref.leaves;
+    }
+    const Prism box = prism(tile);
+    items_.clear();
+    for (std::uint32_t id : ids) {
+        Vec3d v[3];
+        corners(input, id, v);
+        double zlo, zhi;
+        if (clip_to_prism(v, box, zlo, zhi)) items_.push_back(depth_item(id, zlo, zhi, grid_.pad));
+    }
+    if (items_.empty()) {
+        ref.leaves = 0;  // keeps its offset and room for a later insertion
+        return;
+    }
+    const std::uint32_t leaves = bsp_.build(items_, block_);
+    if (block_.size() <= room_[tile] && room_[tile] > 0) {
+        std::copy(block_.begin(), block_.end(), pool_.begin() + std::ptrdiff_t(ref.offset));
+    } else {
+        garbage_ += room_[tile];
+        ref.offset = std::uint32_t(pool_.size());
+        room_[tile] = std::uint32_t(block_.size());
+        pool_.insert(pool_.end(), block_.begin(), block_.end());
+    }
+    ref.leaves = leaves;
+    entries_ += block_.size() - (2 * std::size_t(leaves) - 1);
+    leaves_ += leaves;
+}
+
+void ParallelSubfield::remove(std::span<const std::uint32_t> ids, const SubfieldInput& input) {
+    const std::uint32_t n = std::uint32_t(grid_.n);
+    std::vector<std::uint32_t> touched;
+    TileRasteriser rasteriser(grid_);
+    for (std::uint32_t id : ids) {
+        Vec3d v[3];
+        corners(input, id, v);
+        rasteriser.rasterise(v, [&](int c, int r) { touched.push_back(std::uint32_t(r) * n + std::uint32_t(c)); });
+    }
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    std::vector<std::uint32_t> current;
+    for (std::uint32_t tile : touched) {
+        if (tiles_[tile].leaves == 0) continue;
+        tile_ids(tile, current);
+        std::erase_if(current, [&](std::uint32_t id) { return !input.present[id]; });
+        rebuild_tile(tile, current, input);
+    }
+    compact();
+}
+
+void ParallelSubfield::insert(std::span<const std::uint32_t> ids, const SubfieldInput& input) {
+    const std::uint64_t n = std::uint64_t(grid_.n);
+    std::vector<std::uint64_t> pairs;
+    TileRasteriser rasteriser(grid_);
+    for (std::uint32_t id : ids) {
+        if (!input.present[id]) continue;
+        Vec3d v[3];
+        corners(input, id, v);
+        rasteriser.rasterise(v, [&](int c, int r) { pairs.push_back(((std::uint64_t(r) * n + std::uint64_t(c)) << 32) | id); });
+    }
+    std::sort(pairs.begin(), pairs.end());
+    std::vector<std::uint32_t> current;
+    for (std::size_t b = 0; b < pairs.size();) {
+        const auto tile = std::uint32_t(pairs[b] >> 32);
+        std::size_t e = b;
+        tile_ids(tile, current);
+        for (; e < pairs.size() && (pairs[e] >> 32) == tile; ++e) current.push_back(std::uint32_t(pairs[e]));
+        std::sort(current.begin(), current.end());
+        current.erase(std::unique(current.begin(), current.end()), current.end());
+        rebuild_tile(tile, current, input);
+        b = e;
+    }
+    compact();
+}
+
+void ParallelSubfield::compact() {
+    if (garbage_ * 2 <= pool_.size()) return;
+    std::vector<std::uint32_t> packed;
+    packed.reserve(pool_.size() - garbage_);
+    for (std::size_t t = 0; t < tiles_.size(); ++t) {
+        TileRef& ref = tiles_[t];
+        if (ref.leaves == 0) {
+            ref.offset = 0;
+            room_[t] = 0;
+            continue;
+        }
+        const std::uint32_t words = view(ref).words();
+        const auto offset = std::uint32_t(packed.size());
+        packed.insert(packed.end(), pool_.begin() + std::ptrdiff_t(ref.offset),
+                      pool_.begin() + std::ptrdiff_t(ref.offset + words));
+        ref.offset = offset;
+        room_[t] = words;
+    }
+    pool_ = std::move(packed);
+    garbage_ = 0;
+}
+
+std::size_t ParallelSubfield::memory_bytes() const {
+    return sizeof(*this) + tiles_.capacity() * sizeof(TileRef) + room_.capacity() * sizeof(std::uint32_t) +
+           pool_.capacity() * sizeof(std::uint32_t);
+}
+
+}  // namespace beamtrace::vlf

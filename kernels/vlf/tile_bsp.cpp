@@ -1,0 +1,61 @@
+// TileBsp construction: median splits down to the chosen depth (fewer where they stop helping).
+#include <algorithm>
+#include <limits>
+
+#include "vlf/tile_bsp.hpp"
+
+namespace beamtrace::vlf {
+
+std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vector<std::uint32_t>& block) {
+    splits_.clear();
+    ends_.clear();
+    ids_.clear();
+    levels_[0].assign(items.begin(), items.end());
+    node(0, -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity());
+    const auto leaves = std::uint32_t(ends_.size());
+    block.clear();
+    block.reserve(splits_.size() + ends_.size() + ids_.size());
+    for (float s : splits_) block.push_back(std::bit_cast<std::uint32_t>(s));
+    block.insert(block.end(), ends_.begin(), ends_.end());
+    block.insert(block.end(), ids_.begin(), ids_.end());
+    return leaves;
+}
+
+// The node holding levels_[level], covering depths [lo, hi]. Its split is the median of the
+// centres of its items' depth ranges cut to [lo, hi], so it always falls inside the node and the
+// splits of the whole tree come out ascending when leaves are emitted left to right. A node
+// becomes a leaf at the depth limit, when it holds few triangles, or when the split would send
+// every triangle to both sides (all of them straddle it).
+void TileBspBuilder::node(int level, float lo, float hi) {
+    const std::vector<DepthItem>& items = levels_[std::size_t(level)];
+    auto leaf = [&] {
+        for (const DepthItem& it : items) ids_.push_back(it.id);
+        ends_.push_back(std::uint32_t(ids_.size()));
+    };
+    if (level == depth_ || items.size() <= kLeafTriangles) return leaf();
+    centres_.clear();
+    for (const DepthItem& it : items) centres_.push_back(0.5f * (std::max(it.lo, lo) + std::min(it.hi, hi)));
+    const auto mid = centres_.begin() + std::ptrdiff_t(centres_.size() / 2);
+    std::nth_element(centres_.begin(), mid, centres_.end());
+    const float split = *mid;
+    if (!(split > lo && split < hi)) return leaf();
+    std::size_t below = 0, above = 0;
+    for (const DepthItem& it : items) {
+        below += it.lo <= split;
+        above += it.hi >= split;
+    }
+    if (below == items.size() && above == items.size()) return leaf();
+
+    std::vector<DepthItem>& child = levels_[std::size_t(level) + 1];
+    child.clear();
+    for (const DepthItem& it : items)
+        if (it.lo <= split) child.push_back(it);
+    node(level + 1, lo, split);
+    splits_.push_back(split);
+    child.clear();
+    for (const DepthItem& it : items)
+        if (it.hi >= split) child.push_back(it);
+    node(level + 1, split, hi);
+}
+
+}  // namespace beamtrace::vlf

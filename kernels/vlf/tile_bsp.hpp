@@ -1,0 +1,64 @@
+#pragma once
+// TileBsp: the 1D BSP along one tile's beam (section 4). Split planes are orthogonal to the beam
+// (constant canonical z), chosen as medians; a triangle goes to every leaf its (clipped, padded)
+// depth range overlaps. The leaves are stored flat, in depth order, in one block of 32-bit words:
+//
+//     [ split_0 .. split_{m-2} ]  [ end_0 .. end_{m-1} ]  [ ids ... ]
+//       float bits, ascending      leaf j's ids are ids[end_{j-1} .. end_j), end_{-1} = 0
+//
+// Leaf j covers depths [split_{j-1}, split_j] (the first and last are open-ended), so the first
+// and last leaf a ray segment needs follow from the depths of its two ends (section 4, Figure 3).
+#include <bit>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace beamtrace::vlf {
+
+// One triangle of a tile: its id and the depth range of its part inside the tile's prism, padded.
+struct DepthItem {
+    std::uint32_t id;
+    float lo, hi;
+};
+
+// Read access to a block of `leaves` leaves.
+struct TileBspView {
+    const std::uint32_t* block = nullptr;
+    std::uint32_t leaves = 0;
+
+    float split(std::uint32_t j) const { return std::bit_cast<float>(block[j]); }  // j < leaves - 1
+    const std::uint32_t* ends() const { return block + (leaves - 1); }
+    const std::uint32_t* ids() const { return block + (leaves - 1) + leaves; }
+    std::uint32_t begin(std::uint32_t j) const { return j == 0 ? 0 : ends()[j - 1]; }
+    std::uint32_t end(std::uint32_t j) const { return ends()[j]; }
+    // The leaf whose depth range holds z (the lower one when z is a split).
+    std::uint32_t leaf(double z) const {
+        std::uint32_t j = 0;
+        while (j + 1 < leaves && double(split(j)) < z) ++j;
+        return j;
+    }
+    std::uint32_t words() const { return (leaves - 1) + leaves + end(leaves - 1); }
+};
+
+class TileBspBuilder {
+public:
+    // Leaves holding at most this many triangles are not split further.
+    static constexpr std::size_t kLeafTriangles = 4;
+
+    explicit TileBspBuilder(int depth) : depth_(depth), levels_(std::size_t(depth) + 1) {}
+
+    // Builds the tile-BSP of items (sorted by id, non-empty) into `block` (replaced); returns the
+    // number of leaves. The same items always give the same block.
+    std::uint32_t build(std::span<const DepthItem> items, std::vector<std::uint32_t>& block);
+
+private:
+    void node(int level, float lo, float hi);
+
+    int depth_;
+    std::vector<std::vector<DepthItem>> levels_;  // items of the node being built at each level
+    std::vector<float> centres_;
+    std::vector<float> splits_;
+    std::vector<std::uint32_t> ends_, ids_;
+};
+
+}  // namespace beamtrace::vlf

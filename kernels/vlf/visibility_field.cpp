@@ -1,0 +1,134 @@
+// VisibilityField: options, construction, lazy (or eager) PSF builds, single-ray queries, statistics.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "beamtrace/error.hpp"
+#include "vlf/direction_set_impl.hpp"
+#include "vlf/field_query.hpp"
+
+namespace beamtrace {
+
+void VlfOptions::validate() const {
+    if (!DirectionSet::valid_count(directions)) DirectionSet{directions};  // throws, naming the valid counts
+    if (tiles < 1 || tiles > 1024)
+        throw Error("VLF tiles per side must be between 1 and 1024 (got " + std::to_string(tiles) + ")");
+    if (depth < 0 || depth > 16)
+        throw Error("VLF tile-BSP depth must be between 0 and 16 (got " + std::to_string(depth) + ")");
+    if (bounds) {
+        const Box& b = *bounds;
+        for (int k = 0; k < 3; ++k)
+            if (!std::isfinite(b.lower[k]) || !std::isfinite(b.upper[k]) || b.lower[k] > b.upper[k])
+                throw Error("VLF bounds must be a finite, non-empty box");
+    }
+}
+
+VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o) : options(o), directions((o.validate(), o.directions)) {
+    bounds = o.bounds ? *o.bounds : scene.bounds();
+    const Box& sb = scene.bounds();
+    for (int k = 0; k < 3; ++k)
+        if (sb.lower[k] < bounds.lower[k] || sb.upper[k] > bounds.upper[k])
+            throw Error("VLF bounds do not contain the scene's box");
+    grid = vlf::TileGrid::around(bounds, o.tiles);
+    clip_radius = grid.radius + grid.pad;
+    const std::size_t count = scene.triangle_count();
+    triangles.assign(scene.triangles().begin(), scene.triangles().end());
+    inserted.assign(count, 1);
+    present.resize(count);
+    for (std::size_t t = 0; t < count; ++t) present[t] = scene.is_degenerate(std::uint32_t(t)) ? 0 : 1;
+    for (int i = 0; i < directions.size(); ++i) frames.push_back(vlf::CanonicalFrame::towards(directions.direction(i)));
+    psfs.resize(std::size_t(directions.size()));
+    ready = std::make_unique<std::atomic<const vlf::ParallelSubfield*>[]>(psfs.size());
+    for (std::size_t i = 0; i < psfs.size(); ++i) ready[i].store(nullptr, std::memory_order_relaxed);
+    build_locks = std::make_unique<std::mutex[]>(psfs.size());
+    kernels = &triangle_kernels();
+}
+
+const vlf::ParallelSubfield& VisibilityField::Impl::build(std::uint32_t i) const {
+    std::lock_guard<std::mutex> lock(build_locks[i]);
+    if (const vlf::ParallelSubfield* p = ready[i].load(std::memory_order_acquire)) return *p;
+    psfs[i] = std::make_unique<vlf::ParallelSubfield>(frames[i], input());
+    ready[i].store(psfs[i].get(), std::memory_order_release);
+    return *psfs[i];
+}
+
+namespace {
+
+template <bool kOcclusion, bool kCount>
+Hit trace(const VisibilityField::Impl& f, const Ray& ray, VlfMode mode, VlfCounters* counters) {
+    if constexpr (kCount) ++counters->rays;
+    const float s = std::fabs(ray.dir.x) + std::fabs(ray.dir.y) + std::fabs(ray.dir.z);
+    if (!(s > 0.0f && s < kInfinity)) return Hit{};
+    const DirectionSet::Nearest nearest = f.directions.impl().nearest(ray.dir.x, ray.dir.y, ray.dir.z);
+    vlf::CanonicalRay cr;
+    if (!vlf::make_canonical_ray(f.frames[nearest.index], f.grid, f.clip_radius, ray, cr)) return Hit{};
+    return vlf::walk_field<kOcclusion, kCount>(f, f.psf(nearest.index), cr, ray, mode, counters);
+}
+
+}  // namespace
+
+VisibilityField::VisibilityField(const Scene& scene, const VlfOptions& options, const Progress& progress)
+    : impl_(std::make_unique<Impl>(scene, options)) {
+    if (options.eager) build_all(progress);
+}
+VisibilityField::~VisibilityField() = default;
+VisibilityField::VisibilityField(VisibilityField&&) noexcept = default;
+VisibilityField& VisibilityField::operator=(VisibilityField&&) noexcept = default;
+
+Hit VisibilityField::intersect(const Ray& ray, VlfMode mode) const { return trace<false, false>(*impl_, ray, mode, nullptr); }
+bool VisibilityField::occluded(const Ray& ray, VlfMode mode) const {
+    return trace<true, false>(*impl_, ray, mode, nullptr).hit();
+}
+Hit VisibilityField::intersect(const Ray& ray, VlfMode mode, VlfCounters& c) const {
+    return trace<false, true>(*impl_, ray, mode, &c);
+}
+bool VisibilityField::occluded(const Ray& ray, VlfMode mode, VlfCounters& c) const {
+    return trace<true, true>(*impl_, ray, mode, &c).hit();
+}
+
+void VisibilityField::build_all(const Progress& progress) {
+    const Impl& f = *impl_;
+    const std::size_t count = f.psfs.size();
+    std::atomic<std::size_t> done{0};
+    std::mutex report;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            f.psf(std::uint32_t(i));
+            const std::size_t k = ++done;
+            if (progress) {
+                std::lock_guard<std::mutex> lock(report);
+                progress(double(k) / double(count));
+            }
+        }
+    });
+}
+
+const DirectionSet& VisibilityField::directions() const { return impl_->directions; }
+const VlfOptions& VisibilityField::options() const { return impl_->options; }
+std::span<const Triangle> VisibilityField::triangles() const { return impl_->triangles; }
+bool VisibilityField::contains(std::uint32_t id) const {
+    return id < impl_->inserted.size() && impl_->inserted[id] != 0;
+}
+
+VlfStats VisibilityField::stats() const {
+    const Impl& f = *impl_;
+    VlfStats s;
+    s.directions = f.options.directions;
+    s.tiles = f.options.tiles;
+    s.depth = f.options.depth;
+    s.memory_bytes = f.directions.memory_bytes() + f.triangles.size() * (sizeof(Triangle) + 2) +
+                     f.frames.size() * sizeof(vlf::CanonicalFrame);
+    f.for_each_built([&](std::size_t, const vlf::ParallelSubfield& p) {
+        ++s.psfs_built;
+        s.tile_entries += p.entries();
+        s.leaves += p.leaves();
+        s.memory_bytes += p.memory_bytes();
+        s.build_seconds += p.build_seconds();
+    });
+    return s;
+}
+
+}  // namespace beamtrace

@@ -1,0 +1,52 @@
+#pragma once
+// The state of a VisibilityField: its copy of the triangles, the direction set, the grid, one frame
+// per direction and the PSFs, each built the first time a query needs it.
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "beamtrace/vlf.hpp"
+#include "common/triangle_kernels.hpp"
+#include "vlf/canonical_frame.hpp"
+#include "vlf/parallel_subfield.hpp"
+
+namespace beamtrace {
+
+struct VisibilityField::Impl {
+    VlfOptions options;
+    DirectionSet directions;
+    vlf::TileGrid grid;
+    double clip_radius = 0.0;  // sphere rays are cut to: R + pad
+    Box bounds;                // the volume triangles must stay in
+    std::vector<Triangle> triangles;
+    std::vector<std::uint8_t> inserted;  // in the field (not removed)
+    std::vector<std::uint8_t> present;   // inserted and of non-zero area: what PSFs hold
+    std::vector<vlf::CanonicalFrame> frames;
+    const TriangleKernels* kernels = nullptr;
+
+    // PSF i, once built, is psfs[i]; ready[i] publishes it to queries without a lock.
+    mutable std::vector<std::unique_ptr<vlf::ParallelSubfield>> psfs;
+    mutable std::unique_ptr<std::atomic<const vlf::ParallelSubfield*>[]> ready;
+    mutable std::unique_ptr<std::mutex[]> build_locks;
+
+    Impl(const Scene& scene, const VlfOptions& options);
+
+    vlf::SubfieldInput input() const {
+        return vlf::SubfieldInput{&grid, triangles, present, options.depth};
+    }
+    // PSF i, built now if no query has needed it yet (thread-safe).
+    const vlf::ParallelSubfield& psf(std::uint32_t i) const {
+        if (const vlf::ParallelSubfield* p = ready[i].load(std::memory_order_acquire)) return *p;
+        return build(i);
+    }
+    const vlf::ParallelSubfield& build(std::uint32_t i) const;
+    // The built PSFs (for updates and statistics).
+    template <class F>
+    void for_each_built(F&& f) const {
+        for (std::size_t i = 0; i < psfs.size(); ++i)
+            if (const vlf::ParallelSubfield* p = ready[i].load(std::memory_order_acquire)) f(i, *p);
+    }
+};
+
+}  // namespace beamtrace

@@ -1,0 +1,117 @@
+// kd16 (4x4 packets by interval traversal from the root: the paper's "no MLRT") and mlrta (tiles,
+// beams, entry-point search, tile splitting, interval traversal from the entry points).
+#include "beamtrace/error.hpp"
+#include "beamtrace/mlrta.hpp"
+#include "workload/engine_registry.hpp"
+#include "workload/parallel.hpp"
+
+namespace beamtrace::workload {
+namespace {
+
+nlohmann::json counters_json(const MlrtaCounters& c) {
+    const double packets = c.packets ? double(c.packets) : 1.0;
+    return {{"cells_per_packet", double(c.ep_steps + c.xp_steps) / packets},
+            {"ep_cells_per_packet", double(c.ep_steps) / packets},
+            {"xp_cells_per_packet", double(c.xp_steps) / packets},
+            {"intersections_per_packet", double(c.triangle_tests) / packets},
+            {"packets", c.packets},
+            {"tiles", c.tiles},
+            {"divergent_tiles", c.divergent_tiles},
+            {"single_rays", c.single_rays}};
+}
+
+// Shadow rays end at the light: traced from there, they form beams with (nearly) one origin.
+std::vector<Packet16> reversed_packets(const RaySet& rays) {
+    std::vector<Packet16> out(rays.packets.size());
+    for (std::size_t p = 0; p < rays.packets.size(); ++p) {
+        out[p] = rays.packets[p];
+        for (std::uint32_t m = out[p].active; m; m &= m - 1) {
+            const int i = __builtin_ctz(m);
+            out[p].set_ray(i, reversed(rays.packets[p].ray(i)));
+        }
+    }
+    return out;
+}
+
+class MlrtaEngine : public Engine {
+public:
+    explicit MlrtaEngine(bool beams) : beams_(beams) {}
+    std::string name() const override { return beams_ ? "mlrta" : "kd16"; }
+    void build(const Scene& scene, const EngineOptions& options) override {
+        tree_ = std::make_unique<KdTree>(KdTree::build(scene, options.kd_rules, options.build_progress));
+        mlrta_ = std::make_unique<Mlrta>(*tree_, options.mlrta);
+    }
+    double build_seconds() const override { return tree_->stats().build_seconds; }
+    std::size_t memory_bytes() const override { return tree_->stats().bytes + mlrta_->memory_bytes(); }
+
+    void intersect(const RaySet& rays, std::vector<Hit>& hits, int threads) const override {
+        std::vector<PacketHits16> out(rays.packets.size());
+        trace(rays, rays.packets, threads, out.data(), nullptr, nullptr);
+        hits.assign(rays.slots(), Hit{});
+        for (std::size_t p = 0; p < out.size(); ++p)
+            for (int i = 0; i < 16; ++i)
+                if ((rays.packets[p].active >> i) & 1u) hits[p * 16 + std::size_t(i)] = out[p].hit(i);
+    }
+
+    void occluded(const RaySet& rays, std::vector<std::uint8_t>& occluded, int threads) const override {
+        const std::vector<Packet16> packets = beams_ ? reversed_packets(rays) : rays.packets;
+        std::vector<std::uint32_t> bits(rays.packets.size(), 0);
+        trace(rays, packets, threads, nullptr, bits.data(), nullptr);
+        occluded.assign(rays.slots(), 0);
+        for (std::size_t p = 0; p < bits.size(); ++p)
+            for (int i = 0; i < 16; ++i) occluded[p * 16 + std::size_t(i)] = (bits[p] >> i) & 1u;
+    }
+
+    nlohmann::json stats(const RaySet& rays) const override {
+        MlrtaCounters c;
+        const bool closest = rays.mode == Mode::primary;
+        const std::vector<Packet16> packets = (!closest && beams_) ? reversed_packets(rays) : rays.packets;
+        std::vector<PacketHits16> hits(closest ? packets.size() : 0);
+        std::vector<std::uint32_t> bits(closest ? 0 : packets.size());
+        trace(rays, packets, 1, closest ? hits.data() : nullptr, closest ? nullptr : bits.data(), &c);
+        nlohmann::json j = counters_json(c);
+        const MlrtaSettings& s = mlrta_->settings();
+        j["initial_tile"] = s.initial_tile;
+        j["split_factor"] = s.split_factor;
+        j["min_tile"] = s.min_tile;
+        j["frustum_test"] = s.frustum_test == FrustumTest::inverse ? "inverse" : "direct";
+        j["kd_nodes"] = tree_->stats().nodes;
+        return j;
+    }
+
+private:
+    // Tiles of beams when the packets form an image; packet by packet otherwise (and for kd16).
+    void trace(const RaySet& rays, const std::vector<Packet16>& packets, int threads, PacketHits16* hits,
+               std::uint32_t* bits, MlrtaCounters* counters) const {
+        if (beams_ && rays.packets_x > 0) {
+            const PacketGrid grid{packets.data(), rays.packets_x, rays.packets_y};
+            if (hits) mlrta_->intersect(grid, hits, threads, counters);
+            else mlrta_->occluded(grid, bits, threads, counters);
+            return;
+        }
+        if (counters) {  // counting runs on one thread
+            for (std::size_t p = 0; p < packets.size(); ++p) {
+                if (hits) mlrta_->intersect_packet(packets[p], hits[p], counters);
+                else bits[p] = mlrta_->occluded_packet(packets[p], counters);
+            }
+            return;
+        }
+        for_packet_ranges(packets.size(), threads, [&](std::size_t b, std::size_t e) {
+            for (std::size_t p = b; p < e; ++p) {
+                if (hits) mlrta_->intersect_packet(packets[p], hits[p]);
+                else bits[p] = mlrta_->occluded_packet(packets[p]);
+            }
+        });
+    }
+
+    bool beams_;
+    std::unique_ptr<KdTree> tree_;
+    std::unique_ptr<Mlrta> mlrta_;
+};
+
+}  // namespace
+
+std::unique_ptr<Engine> make_kd16_engine() { return std::make_unique<MlrtaEngine>(false); }
+std::unique_ptr<Engine> make_mlrta_engine() { return std::make_unique<MlrtaEngine>(true); }
+
+}  // namespace beamtrace::workload
