@@ -217,6 +217,19 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
     }
 }
 
+// One lane by the single-ray kd-tree traversal.
+template <bool kOcclusion, bool kCount>
+void trace_single(const Mlrta::Impl& m, const Packet16& packet, int i, PacketHits16* hits, std::uint32_t* occluded,
+                  MlrtaCounters* counters) {
+    if constexpr (kCount) ++counters->single_rays;
+    const Ray r = packet.ray(i);
+    if constexpr (kOcclusion) {
+        if (m.tree.occluded(r)) *occluded |= 1u << i;
+    } else {
+        hits->set_hit(i, m.tree.intersect(r));
+    }
+}
+
 template <bool kOcclusion, bool kCount>
 void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint& ep, PacketHits16* hits,
                   std::uint32_t* occluded, MlrtaCounters* counters) {
@@ -233,21 +246,30 @@ void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint
         // Zero (or denormal, or NaN) components have no usable reciprocal: such rays go alone.
         if (!(std::fabs(packet.dir_x[i]) >= FLT_MIN && std::fabs(packet.dir_y[i]) >= FLT_MIN &&
               std::fabs(packet.dir_z[i]) >= FLT_MIN)) {
-            if constexpr (kCount) ++counters->single_rays;
-            const Ray r = packet.ray(i);
-            if constexpr (kOcclusion) {
-                if (m.tree.occluded(r)) *occluded |= 1u << i;
-            } else {
-                hits->set_hit(i, m.tree.intersect(r));
-            }
+            trace_single<kOcclusion, kCount>(m, packet, i, hits, occluded, counters);
             continue;
         }
         const int octant = int(std::signbit(packet.dir_x[i])) | (int(std::signbit(packet.dir_y[i])) << 1) |
                            (int(std::signbit(packet.dir_z[i])) << 2);
         octant_lanes[octant] |= 1u << i;
     }
-    for (std::uint32_t lanes : octant_lanes)
-        if (lanes) interval_traversal<kOcclusion, kCount>(m, packet, lanes, ep, hits, occluded, counters);
+    // Interval traversal pays when the rays of a group travel together. Groups of one or two rays,
+    // and groups whose origins lie far apart (incoherent secondary rays), are traced ray by ray.
+    const float far_apart = 0.01f * m.kd().bounds.diagonal();
+    for (std::uint32_t lanes : octant_lanes) {
+        if (lanes == 0) continue;
+        Box origins;
+        for (std::uint32_t b = lanes; b; b &= b - 1) {
+            const int i = __builtin_ctz(b);
+            origins.extend(Float3{packet.org_x[i], packet.org_y[i], packet.org_z[i]});
+        }
+        if (__builtin_popcount(lanes) > 2 && !(origins.diagonal() > far_apart)) {
+            interval_traversal<kOcclusion, kCount>(m, packet, lanes, ep, hits, occluded, counters);
+            continue;
+        }
+        for (std::uint32_t b = lanes; b; b &= b - 1)
+            trace_single<kOcclusion, kCount>(m, packet, __builtin_ctz(b), hits, occluded, counters);
+    }
 }
 
 template void trace_packet<false, false>(const Mlrta::Impl&, const Packet16&, const EntryPoint&, PacketHits16*,
