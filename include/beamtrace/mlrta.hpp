@@ -24,7 +24,10 @@ struct MlrtaSettings {
     int split_factor = 16;   // SF: 4 (2x2) or 16 (4x4) sub-tiles
     int min_tile = 4;        // MTS, pixels (a multiple of 4): tiles this small go to XP search
     FrustumTest frustum_test = FrustumTest::inverse;
-    bool triangle_culling = true;  // skip triangles whose box the packet cannot meet
+    // Skip triangles whose box the packet cannot meet (test (2) per triangle). It removes most tests
+    // (intersections_per_packet) but costs about as much as it saves with 16-wide triangle tests,
+    // so it is off by default (docs/mlrta.md has the numbers).
+    bool triangle_culling = false;
     // Throws beamtrace::Error naming the bad setting.
     void validate() const;
 };

@@ -6,7 +6,7 @@
 namespace beamtrace {
 namespace simd {
 template <>
-std::uint32_t lane_bits<xsimd::avx2>(const xsimd::batch_bool<float, xsimd::avx2>& m) {
+inline std::uint32_t lane_bits<xsimd::avx2>(const xsimd::batch_bool<float, xsimd::avx2>& m) {
     return std::uint32_t(_mm256_movemask_ps(m));
 }
 }  // namespace simd

@@ -6,7 +6,7 @@
 namespace beamtrace {
 namespace simd {
 template <>
-std::uint32_t lane_bits<xsimd::avx512bw>(const xsimd::batch_bool<float, xsimd::avx512bw>& m) {
+inline std::uint32_t lane_bits<xsimd::avx512bw>(const xsimd::batch_bool<float, xsimd::avx512bw>& m) {
     return std::uint32_t(static_cast<__mmask16>(m));
 }
 }  // namespace simd

@@ -10,7 +10,7 @@
 
 namespace beamtrace::simd {
 
-// Bit i set for each true lane; specialised by each per-ISA unit.
+// Bit i set for each true lane; specialised (inline) by each per-ISA unit before including this file.
 template <class Arch>
 std::uint32_t lane_bits(const xsimd::batch_bool<float, Arch>& m);
 
@@ -25,7 +25,7 @@ struct Corners {
 // exactly zero), sign test, determinant and distance. Writes t, u, v of hitting lanes into out at
 // lane offset `base` and returns their bits (relative to base).
 template <class Arch>
-std::uint32_t watertight_core(const Corners<Arch>& k, const xsimd::batch<float, Arch>& sx,
+[[gnu::always_inline]] inline std::uint32_t watertight_core(const Corners<Arch>& k, const xsimd::batch<float, Arch>& sx,
                               const xsimd::batch<float, Arch>& sy, const xsimd::batch<float, Arch>& sz,
                               const xsimd::batch<float, Arch>& tnear, const xsimd::batch<float, Arch>& tfar,
                               std::uint32_t valid_bits, LaneHits& out, int base) {
@@ -68,7 +68,7 @@ std::uint32_t watertight_core(const Corners<Arch>& k, const xsimd::batch<float, 
 
 // One ray against up to W triangles (lane i = tris[i]).
 template <class Arch>
-void ray_xw(const WatertightRay& r, const Triangle* const* tris, int n, LaneHits& out, int base) {
+[[gnu::always_inline]] inline void ray_xw(const WatertightRay& r, const Triangle* const* tris, int n, LaneHits& out, int base) {
     using B = xsimd::batch<float, Arch>;
     constexpr int W = int(B::size);
     alignas(64) float comp[9][W];
@@ -93,7 +93,7 @@ void ray_xw(const WatertightRay& r, const Triangle* const* tris, int n, LaneHits
 
 // Lanes [base, base + W) of a packet against one triangle.
 template <class Arch>
-void packet_xw(const WatertightPacket16& p, const Triangle& tri, LaneHits& out, int base) {
+[[gnu::always_inline]] inline void packet_xw(const WatertightPacket16& p, const Triangle& tri, LaneHits& out, int base) {
     using B = xsimd::batch<float, Arch>;
     constexpr int W = int(B::size);
     const std::uint32_t valid = (p.active >> base) & ((1u << W) - 1u);

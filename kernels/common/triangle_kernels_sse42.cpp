@@ -6,7 +6,7 @@
 namespace beamtrace {
 namespace simd {
 template <>
-std::uint32_t lane_bits<xsimd::sse4_2>(const xsimd::batch_bool<float, xsimd::sse4_2>& m) {
+inline std::uint32_t lane_bits<xsimd::sse4_2>(const xsimd::batch_bool<float, xsimd::sse4_2>& m) {
     return std::uint32_t(_mm_movemask_ps(m));
 }
 }  // namespace simd
