@@ -77,16 +77,20 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
         pb.sign[1] = std::signbit(packet.dir_y[first]) ? -1 : 1;
         pb.sign[2] = std::signbit(packet.dir_z[first]) ? -1 : 1;
     }
-    // Per lane: clip to the entry point's box; lanes that miss it are done.
+    // Cell decisions use each ray's distance along its line (t * |dir|), so that rays of one
+    // direction but different parameter speeds (shadow rays of different lengths) share intervals;
+    // triangle tests keep each ray's own t.
     const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
     const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
+    float speed[16];
     float c0 = kInfinity, c1 = -kInfinity, tnear_min = kInfinity;
     bool first_lane = true;
     for (std::uint32_t bits = mask; bits; bits &= bits - 1) {
         const int i = __builtin_ctz(bits);
-        float enter = packet.tnear[i], exit = packet.tfar[i];
+        speed[i] = std::sqrt(dir[0][i] * dir[0][i] + dir[1][i] * dir[1][i] + dir[2][i] * dir[2][i]);
+        float enter = packet.tnear[i] * speed[i], exit = packet.tfar[i] * speed[i];
         for (int k = 0; k < 3; ++k) {
-            const float inv = 1.0f / dir[k][i];
+            const float inv = speed[i] / dir[k][i];  // reciprocal of the unit direction's component
             float a = (ep.box.lower[k] - org[k][i]) * inv, b = (ep.box.upper[k] - org[k][i]) * inv;
             if (a > b) std::swap(a, b);
             enter = std::max(enter, a);
@@ -108,14 +112,23 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
         }
         c0 = std::min(c0, enter);
         c1 = std::max(c1, exit);
-        tnear_min = std::min(tnear_min, packet.tnear[i]);
+        tnear_min = std::min(tnear_min, packet.tnear[i] * speed[i]);
     }
     if (mask == 0) return;
     {
         const Interval cell = widen({c0, c1}, pb.pad);
-        c0 = std::max(cell.lo, tnear_min);
+        c0 = std::max(cell.lo, tnear_min - std::fabs(tnear_min) * kRelativePad);
         c1 = cell.hi;
     }
+    // The farthest distance along its line any active ray may still hit at (its tfar or closest hit).
+    auto farthest = [&](std::uint32_t lanes, const float* tfar) {
+        float d = -kInfinity;
+        for (; lanes; lanes &= lanes - 1) {
+            const int i = __builtin_ctz(lanes);
+            d = std::max(d, tfar[i] * speed[i]);
+        }
+        return d + std::fabs(d) * kRelativePad;
+    };
 
     WatertightPacket16 wp = make_watertight_packet(packet);
     wp.active = mask;
@@ -163,8 +176,7 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
             continue;
         }
         const std::uint32_t count = node.triangle_count();
-        float reach = -kInfinity;  // farthest t any active ray may still hit at
-        for (std::uint32_t bits = wp.active; bits; bits &= bits - 1) reach = std::max(reach, wp.tfar[__builtin_ctz(bits)]);
+        const float reach = farthest(wp.active, wp.tfar);
         if (count > 0 && !packet_misses_box(pb, box, c0, reach)) {
             const std::uint32_t* leaf = ids + node.offset();
             for (std::uint32_t j = 0; j < count; ++j) {
@@ -202,8 +214,7 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
             }
         }
         // The farthest any active ray still needs to look: cells starting beyond it are skipped.
-        float needed = -kInfinity;
-        for (std::uint32_t bits = wp.active; bits; bits &= bits - 1) needed = std::max(needed, wp.tfar[__builtin_ctz(bits)]);
+        const float needed = farthest(wp.active, wp.tfar);
         for (;;) {
             if (top == 0) return;
             const StackEntry& e = stack[--top];
@@ -215,6 +226,31 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
             break;
         }
     }
+}
+
+// Whether the rays of a group are close enough to parallel for interval traversal: every component
+// of the unit directions within kMaxSpread (about 3 degrees), and no component varying by more than a
+// factor kMaxRatio. Otherwise the group's interval bounds cover the whole hull of a widening beam (or
+// lose all precision for rays nearly parallel to a plane), and interval traversal visits far more
+// cells than the rays one by one would.
+bool well_conditioned(const Packet16& packet, std::uint32_t lanes) {
+    constexpr float kMaxSpread = 0.05f, kMaxRatio = 8.0f;
+    float lo[3] = {kInfinity, kInfinity, kInfinity}, hi[3] = {-kInfinity, -kInfinity, -kInfinity};
+    float alo[3] = {kInfinity, kInfinity, kInfinity}, ahi[3] = {0.0f, 0.0f, 0.0f};
+    for (std::uint32_t b = lanes; b; b &= b - 1) {
+        const int i = __builtin_ctz(b);
+        const Float3 d{packet.dir_x[i], packet.dir_y[i], packet.dir_z[i]};
+        const Float3 u = d * (1.0f / std::sqrt(dot(d, d)));
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], u[k]);
+            hi[k] = std::max(hi[k], u[k]);
+            alo[k] = std::min(alo[k], std::fabs(u[k]));
+            ahi[k] = std::max(ahi[k], std::fabs(u[k]));
+        }
+    }
+    for (int k = 0; k < 3; ++k)
+        if (hi[k] - lo[k] > kMaxSpread || ahi[k] > kMaxRatio * alo[k]) return false;
+    return true;
 }
 
 // One lane by the single-ray kd-tree traversal.
@@ -254,7 +290,8 @@ void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint
         octant_lanes[octant] |= 1u << i;
     }
     // Interval traversal pays when the rays of a group travel together. Groups of one or two rays,
-    // and groups whose origins lie far apart (incoherent secondary rays), are traced ray by ray.
+    // groups whose origins lie far apart and groups of diverging or nearly plane-parallel directions
+    // (incoherent secondary rays) are traced ray by ray.
     const float far_apart = 0.01f * m.kd().bounds.diagonal();
     for (std::uint32_t lanes : octant_lanes) {
         if (lanes == 0) continue;
@@ -263,7 +300,7 @@ void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint
             const int i = __builtin_ctz(b);
             origins.extend(Float3{packet.org_x[i], packet.org_y[i], packet.org_z[i]});
         }
-        if (__builtin_popcount(lanes) > 2 && !(origins.diagonal() > far_apart)) {
+        if (__builtin_popcount(lanes) > 2 && !(origins.diagonal() > far_apart) && well_conditioned(packet, lanes)) {
             interval_traversal<kOcclusion, kCount>(m, packet, lanes, ep, hits, occluded, counters);
             continue;
         }

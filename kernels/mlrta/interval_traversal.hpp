@@ -18,8 +18,9 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
                         PacketHits16* hits, std::uint32_t* occluded, MlrtaCounters* counters);
 
 // A whole packet from `ep`: the lanes are grouped by sign octant and each group is traced by
-// interval traversal; lanes with a zero direction component, groups of one or two rays and groups
-// whose origins lie more than 1% of the scene diagonal apart go to the single-ray kd-tree traversal.
+// interval traversal; lanes with a zero direction component, groups of one or two rays, groups
+// whose origins lie more than 1% of the scene diagonal apart and groups whose directions spread
+// more than about 3 degrees go to the single-ray kd-tree traversal.
 template <bool kOcclusion, bool kCount>
 void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint& ep, PacketHits16* hits,
                   std::uint32_t* occluded, MlrtaCounters* counters);

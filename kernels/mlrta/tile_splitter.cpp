@@ -46,18 +46,25 @@ void TileSplitter<kOcclusion, kCount>::trace_tile(int x0, int y0, int x1, int y1
         trace_packets(x0, y0, x1, y1, ep, false);  // no active ray: only clears the results
         return;
     }
-    if (!beam.coherent) {
-        trace_packets(x0, y0, x1, y1, ep, true);
-        return;
-    }
-    std::uint64_t steps = 0;
-    const EntryPoint found = entry_point_search(m_, beam, ep, steps);
-    if constexpr (kCount) counters_->ep_steps += steps;
     const int min_side = std::max(1, m_.settings.min_tile / 4);
     const bool small = (x1 - x0) <= min_side && (y1 - y0) <= min_side;
-    if (found.misses || small || m_.kd().nodes[found.node].is_leaf()) {
-        trace_packets(x0, y0, x1, y1, found, false);
-        return;
+    EntryPoint found = ep;
+    if (!beam.coherent) {
+        // Diverging rays: no entry-point search. At the minimum size the packets go to XP search
+        // (in coherent sub-groups); larger tiles are split first, as their parts may be coherent.
+        if (small) {
+            trace_packets(x0, y0, x1, y1, ep, true);
+            return;
+        }
+        if constexpr (kCount) ++counters_->divergent_tiles;
+    } else {
+        std::uint64_t steps = 0;
+        found = entry_point_search(m_, beam, ep, steps);
+        if constexpr (kCount) counters_->ep_steps += steps;
+        if (found.misses || small || m_.kd().nodes[found.node].is_leaf()) {
+            trace_packets(x0, y0, x1, y1, found, false);
+            return;
+        }
     }
     const int parts = m_.settings.split_factor == 4 ? 2 : 4;
     const int w = x1 - x0, h = y1 - y0;

@@ -3,7 +3,8 @@
 // searched from its parent's; it is split into SF sub-tiles until its entry point is a leaf or it is
 // no larger than the minimum tile size, then its packets are traced by interval traversal from that
 // entry point. Tiles whose rays diverge in sign go straight to XP search from the parent's entry
-// point (for their coherent sub-groups).
+// point (for their coherent sub-groups) once they reach the minimum size; larger diverging tiles
+// are split first (their parts may be coherent: shadow beams from a light often are).
 #include <vector>
 
 #include "beamtrace/mlrta.hpp"

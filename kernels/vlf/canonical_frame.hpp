@@ -12,6 +12,7 @@
 // along it (the tile-BSP's depth ranges). The padding dwarfs double rounding; it is there for the
 // float watertight test, whose hit point may lie a few float ulps of the ray's length off the
 // triangle (see docs/vlf.md).
+#include <algorithm>
 #include <cmath>
 
 #include "beamtrace/vec.hpp"

@@ -171,12 +171,13 @@ DirectionSet::DirectionSet(int count) {
                     if (std::find(list.begin(), list.end(), index) == list.end()) list.push_back(index);
             }
     });
-    std::size_t k = 1;
-    for (const auto& list : lists) k = std::max(k, list.size());
+    std::size_t k = 2;
+    for (const auto& list : lists) k = std::max(k, (list.size() + 1) / 2 * 2);
     impl->per_cell = int(k);
-    impl->candidates.resize(lists.size() * k);
+    impl->candidate_pairs.assign(lists.size() * k / 2, 0);
     for (std::size_t c = 0; c < lists.size(); ++c)
-        for (std::size_t i = 0; i < k; ++i) impl->candidates[c * k + i] = lists[c][i < lists[c].size() ? i : 0];
+        for (std::size_t i = 0; i < k; ++i)
+            impl->candidate_pairs[(c * k + i) / 2] |= std::uint32_t(lists[c][i < lists[c].size() ? i : 0]) << (16 * (i & 1));
     impl_ = std::move(impl);
 }
 
@@ -185,7 +186,8 @@ Float3 DirectionSet::direction(int i) const { return impl_->dirs[std::size_t(i)]
 DirectionSet::Nearest DirectionSet::nearest(Float3 d) const { return impl_->nearest(d.x, d.y, d.z); }
 int DirectionSet::candidates_per_lookup() const { return impl_->per_cell; }
 std::size_t DirectionSet::memory_bytes() const {
-    return impl_->dirs.size() * (sizeof(Float3) + 3 * sizeof(float)) + impl_->candidates.size() * sizeof(std::uint16_t);
+    return impl_->dirs.size() * (sizeof(Float3) + 3 * sizeof(float)) +
+           impl_->candidate_pairs.size() * sizeof(std::uint32_t);
 }
 
 }  // namespace beamtrace

@@ -6,8 +6,9 @@
 //     (x, y, z), z >= 0  ->  (u, v) = (x, y) / (|x| + |y| + z),   |u| + |v| <= 1,
 // cut into T x T square cells over [-1, 1]^2. A direction with z < 0 is looked up as its opposite
 // (a direction stands for a line). Each cell lists the K directions that can be nearest to some
-// direction inside it (a conservative bound, see direction_set.cpp), padded to K by repeating the
-// first; a query compares exactly those K, never the whole set.
+// direction inside it (a conservative bound, see direction_set.cpp), padded to K (even) by
+// repeating the first, two 16-bit indices to a 32-bit word; a query compares exactly those K,
+// never the whole set.
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -23,9 +24,11 @@ struct DirectionSet::Impl {
     std::vector<float> dx, dy, dz;  // the same, structure of arrays (SIMD gathers)
 
     int table = 0;        // T: cells per side of the lookup table
-    int per_cell = 0;     // K: candidates per cell
+    int per_cell = 0;     // K: candidates per cell (even)
     float half_table = 0; // T / 2
-    std::vector<std::uint16_t> candidates;  // T * T * K, cell (iu, iv) at (iv * T + iu) * K
+    // T * T * K / 2 words; candidate k of cell (iu, iv) is half k % 2 (low first) of word
+    // (iv * T + iu) * K / 2 + k / 2.
+    std::vector<std::uint32_t> candidate_pairs;
 
     // Cell of a (non-zero) direction: its octahedral coordinates after turning it into the upper
     // hemisphere, clamped into the table (rounding may put |u| a hair above 1).
@@ -40,11 +43,11 @@ struct DirectionSet::Impl {
     }
 
     Nearest nearest(float x, float y, float z) const {
-        const std::uint16_t* c = candidates.data() + std::size_t(cell(x, y, z)) * std::size_t(per_cell);
-        std::uint32_t best = c[0];
+        const std::uint32_t* c = candidate_pairs.data() + std::size_t(cell(x, y, z)) * std::size_t(per_cell / 2);
+        std::uint32_t best = c[0] & 0xFFFFu;
         float best_dot = x * dx[best] + y * dy[best] + z * dz[best];
         for (int k = 1; k < per_cell; ++k) {
-            const std::uint32_t i = c[k];
+            const std::uint32_t i = (c[k / 2] >> (16 * (k & 1))) & 0xFFFFu;
             const float d = x * dx[i] + y * dy[i] + z * dz[i];
             if (std::fabs(d) > std::fabs(best_dot)) {
                 best = i;

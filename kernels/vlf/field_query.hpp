@@ -7,13 +7,11 @@
 namespace beamtrace::vlf {
 
 template <bool kOcclusion, bool kCount>
-Hit walk_field(const VisibilityField::Impl& f, const ParallelSubfield& psf, const CanonicalRay& cr, const Ray& ray,
-               VlfMode mode, VlfCounters* counters) {
-    Mailbox& mailbox = Mailbox::local();
-    mailbox.begin(f.triangles.size());
-    const WalkContext ctx{&f.grid, f.triangles.data(), f.kernels};
-    if (mode == VlfMode::fast) return TileWalk<kOcclusion, true, kCount>(psf, ctx, ray, mailbox, counters).run(cr);
-    return TileWalk<kOcclusion, false, kCount>(psf, ctx, ray, mailbox, counters).run(cr);
+Hit walk_field(const VisibilityField::Impl& f, const ParallelSubfield& psf, const CanonicalRay& cr,
+               const WatertightRay& ray, VlfMode mode, VlfCounters* counters) {
+    const WalkContext ctx{&f.grid, f.triangles.data(), f.triangles.size(), f.kernels};
+    if (mode == VlfMode::fast) return TileWalk<kOcclusion, true, kCount>(psf, ctx, ray, counters).run(cr);
+    return TileWalk<kOcclusion, false, kCount>(psf, ctx, ray, counters).run(cr);
 }
 
 }  // namespace beamtrace::vlf

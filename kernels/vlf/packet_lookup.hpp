@@ -1,38 +1,78 @@
 #pragma once
 // The lookups of a 4x4 packet at once: 16 rays -> 16 PSF indices, 16 canonical rays cut to the
-// bounding sphere. Written once over xsimd batches (packet_lookup_impl.hpp) and compiled per
-// instruction set, chosen at run time like the triangle kernels.
+// scene's box, 16 first tiles. Written once over xsimd batches (packet_lookup_impl.hpp), compiled
+// per instruction set and chosen at run time like the triangle kernels; every lane equals what the
+// single-ray set-up (direction_set_impl.hpp, canonical_ray.hpp) computes, bit for bit.
 #include <cstdint>
+#include <vector>
 
 #include "beamtrace/ray.hpp"
 #include "common/isa.hpp"
+#include "common/watertight_ray.hpp"
 #include "vlf/canonical_frame.hpp"
 #include "vlf/canonical_ray.hpp"
 
 namespace beamtrace::vlf {
 
-// What the lookups read: the direction table and the frames (structure of arrays).
+// What the lookups read.
 struct LookupTables {
-    // Direction set.
+    // Direction set: directions (structure of arrays) and the candidate table, read as 32-bit
+    // words of two 16-bit candidates each (pairs_per_cell words per cell).
     const float* dir_x = nullptr;
     const float* dir_y = nullptr;
     const float* dir_z = nullptr;
-    const std::uint16_t* candidates = nullptr;
-    int table = 0, per_cell = 0;
+    const std::int32_t* candidate_pairs = nullptr;
+    int table = 0, pairs_per_cell = 0;
     float half_table = 0.0f;
-    // Frame rows of every direction: e1, e2, e3 (x, y, z each), 9 doubles per direction.
+    // Frames: component c (e1.x, e1.y, e1.z, e2.x, ..., e3.z) of direction i at frames[c * count + i].
     const double* frames = nullptr;
-    // Grid.
-    double centre_x = 0, centre_y = 0, centre_z = 0, clip_radius = 0;
+    int count = 0;
+    // Grid and box.
+    double centre[3] = {0, 0, 0};
+    double radius = 0.0, inv_h = 0.0;
+    int tiles = 1;
+    WorldBox box{};
 };
 
 struct alignas(64) PacketLookup {
     std::uint32_t psf[16];
     double ox[16], oy[16], oz[16], dx[16], dy[16], dz[16], t0[16], t1[16];
-    std::uint32_t valid = 0;  // bit i: ray i is active, well formed and its segment meets the sphere
+    double inv_dx[16], inv_dy[16], inv_dz[16];
+    std::int32_t column[16], row[16];
+    // The watertight triangle test's set-up of each ray (make_watertight_ray).
+    std::int32_t kx[16], ky[16], kz[16];
+    float sx[16], sy[16], sz[16];
+    std::uint32_t valid = 0;  // bit i: ray i is active, well formed and its segment meets the box
 
-    CanonicalRay ray(int i) const { return CanonicalRay{ox[i], oy[i], oz[i], dx[i], dy[i], dz[i], t0[i], t1[i]}; }
+    CanonicalRay ray(int i) const {
+        return CanonicalRay{ox[i], oy[i], oz[i], dx[i],     dy[i],     dz[i],     t0[i],
+                            t1[i], column[i], row[i], inv_dx[i], inv_dy[i], inv_dz[i]};
+    }
+    WatertightRay watertight(int i, const Packet16& p) const {
+        WatertightRay w;
+        w.org = Float3{p.org_x[i], p.org_y[i], p.org_z[i]};
+        w.kx = kx[i]; w.ky = ky[i]; w.kz = kz[i];
+        w.sx = sx[i]; w.sy = sy[i]; w.sz = sz[i];
+        w.tnear = p.tnear[i];
+        w.tfar = p.tfar[i];
+        return w;
+    }
 };
 
+using LookupPacketFn = void (*)(const LookupTables& tables, const Packet16& packet, PacketLookup& out);
+
+// The kernel of an instruction set; nullptr for Isa::scalar, whose packets run the single-ray
+// set-up lane by lane.
+LookupPacketFn lookup_packet_kernel(Isa isa);
+
+namespace lookup_sse42 { void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&); }
+namespace lookup_avx2 { void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&); }
+namespace lookup_avx512 { void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&); }
+
+// The tables of a field's direction set, frames, grid and box (the vectors keep the frames' arrays).
+struct LookupStorage {
+    std::vector<double> frames;
+    LookupTables tables;
+};
 
 }  // namespace beamtrace::vlf

@@ -17,13 +17,23 @@ void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::Packet
         if (!(s > 0.0f && s < kInfinity)) continue;
         const auto nearest = f.directions.impl().nearest(p.dir_x[i], p.dir_y[i], p.dir_z[i]);
         vlf::CanonicalRay cr;
-        if (!vlf::make_canonical_ray(f.frames[nearest.index], f.grid, f.clip_radius, p.ray(i), cr)) continue;
+        if (!vlf::make_canonical_ray(f.frames[nearest.index], f.grid, f.world_box, p.ray(i), cr)) continue;
         out.psf[i] = nearest.index;
         out.ox[i] = cr.ox; out.oy[i] = cr.oy; out.oz[i] = cr.oz;
         out.dx[i] = cr.dx; out.dy[i] = cr.dy; out.dz[i] = cr.dz;
         out.t0[i] = cr.t0; out.t1[i] = cr.t1;
+        out.column[i] = cr.column; out.row[i] = cr.row;
+        out.inv_dx[i] = cr.inv_dx; out.inv_dy[i] = cr.inv_dy; out.inv_dz[i] = cr.inv_dz;
+        const WatertightRay w = make_watertight_ray(p.ray(i));
+        out.kx[i] = w.kx; out.ky[i] = w.ky; out.kz[i] = w.kz;
+        out.sx[i] = w.sx; out.sy[i] = w.sy; out.sz[i] = w.sz;
         out.valid |= 1u << i;
     }
+}
+
+void lookup_packet(const VisibilityField::Impl& f, const Packet16& p, vlf::PacketLookup& out) {
+    if (f.lookup_kernel) f.lookup_kernel(f.lookup.tables, p, out);
+    else lookup_lanes(f, p, out);
 }
 
 }  // namespace
@@ -31,22 +41,22 @@ void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::Packet
 void VisibilityField::intersect(const Packet16& packet, PacketHits16& hits, VlfMode mode) const {
     const Impl& f = *impl_;
     vlf::PacketLookup lookup;
-    lookup_lanes(f, packet, lookup);
+    lookup_packet(f, packet, lookup);
     for (int i = 0; i < 16; ++i) hits.set_hit(i, Hit{});
     for (std::uint32_t m = lookup.valid; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
-        hits.set_hit(i, vlf::walk_field<false, false>(f, f.psf(lookup.psf[i]), lookup.ray(i), packet.ray(i), mode, nullptr));
+        hits.set_hit(i, vlf::walk_field<false, false>(f, f.psf(lookup.psf[i]), lookup.ray(i), lookup.watertight(i, packet), mode, nullptr));
     }
 }
 
 std::uint32_t VisibilityField::occluded(const Packet16& packet, VlfMode mode) const {
     const Impl& f = *impl_;
     vlf::PacketLookup lookup;
-    lookup_lanes(f, packet, lookup);
+    lookup_packet(f, packet, lookup);
     std::uint32_t bits = 0;
     for (std::uint32_t m = lookup.valid; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
-        if (vlf::walk_field<true, false>(f, f.psf(lookup.psf[i]), lookup.ray(i), packet.ray(i), mode, nullptr).hit())
+        if (vlf::walk_field<true, false>(f, f.psf(lookup.psf[i]), lookup.ray(i), lookup.watertight(i, packet), mode, nullptr).hit())
             bits |= 1u << i;
     }
     return bits;

@@ -6,19 +6,21 @@
 #include <chrono>
 #include <cmath>
 
+#include "vlf/tile_footprint.hpp"
 #include "vlf/tile_rasteriser.hpp"
 
 namespace beamtrace::vlf {
 
 namespace {
 
-// A depth range widened by pad and rounded outwards to float.
-DepthItem depth_item(std::uint32_t id, double zlo, double zhi, double pad) {
-    const double lo = zlo - pad, hi = zhi + pad;
+// A tile entry: the depth range of the triangle's part in the prism, widened by pad and rounded
+// outwards to float, and that part's footprint on the tile's lattice.
+DepthItem depth_item(std::uint32_t id, const ClippedBox& b, const FootprintLattice& lattice, double pad) {
+    const double lo = b.zlo - pad, hi = b.zhi + pad;
     float flo = float(lo), fhi = float(hi);
     if (double(flo) > lo) flo = std::nextafter(flo, -INFINITY);
     if (double(fhi) < hi) fhi = std::nextafter(fhi, INFINITY);
-    return DepthItem{id, flo, fhi};
+    return DepthItem{id, flo, fhi, lattice.triangle(b.xlo, b.xhi, b.ylo, b.yhi, pad)};
 }
 
 }  // namespace
@@ -31,44 +33,46 @@ ParallelSubfield::ParallelSubfield(const CanonicalFrame& frame, const SubfieldIn
     tiles_.assign(tiles, TileRef{});
     room_.assign(tiles, 0);
 
-    // Canonical corners of every triangle in the field, then the tiles each one touches.
-    std::vector<Vec3d> canon(3 * count);
-    for (std::size_t id = 0; id < count; ++id)
-        if (input.present[id]) corners(input, std::uint32_t(id), &canon[3 * id]);
+    // Every triangle rasterised, and clipped to the prism of each tile it touches: one entry per
+    // tile it really meets, with its depth range there.
+    struct Entry {
+        std::uint32_t tile;
+        DepthItem item;
+    };
+    std::vector<Entry> entries;
+    entries.reserve(3 * count);
     std::vector<std::uint32_t> first(tiles + 1, 0);
-    std::vector<std::uint64_t> pairs;
-    pairs.reserve(2 * count);
     TileRasteriser rasteriser(grid_);
     for (std::size_t id = 0; id < count; ++id) {
         if (!input.present[id]) continue;
-        rasteriser.rasterise(&canon[3 * id], [&](int c, int r) {
-            const std::size_t tile = std::size_t(r) * n + std::size_t(c);
-            pairs.push_back((std::uint64_t(tile) << 32) | id);
+        Vec3d v[3];
+        corners(input, std::uint32_t(id), v);
+        rasteriser.rasterise(v, [&](int c, int r) {
+            ClippedBox clipped;
+            if (!clip_to_prism(v, prism(c, r), clipped)) return;
+            const auto tile = std::uint32_t(std::size_t(r) * n + std::size_t(c));
+            const FootprintLattice lattice = FootprintLattice::of_tile(grid_, c, r);
+            entries.push_back(Entry{tile, depth_item(std::uint32_t(id), clipped, lattice, grid_.pad)});
             ++first[tile + 1];
         });
     }
-    // Counting sort by tile (ids stay ascending within a tile).
+    // Counting sort by tile (ids stay ascending within a tile), then each tile's BSP.
     for (std::size_t t = 0; t < tiles; ++t) first[t + 1] += first[t];
-    std::vector<std::uint32_t> ids(pairs.size()), next(first.begin(), first.end() - 1);
-    for (std::uint64_t p : pairs) ids[next[p >> 32]++] = std::uint32_t(p);
-    pairs = {};
-
-    // Each tile's triangles clipped to its prism, then its BSP.
+    std::vector<DepthItem> items(entries.size());
+    {
+        std::vector<std::uint32_t> next(first.begin(), first.end() - 1);
+        for (const Entry& e : entries) items[next[e.tile]++] = e.item;
+    }
+    entries = {};
+    pool_.reserve(items.size() + items.size() / 2);
     for (std::size_t t = 0; t < tiles; ++t) {
         if (first[t] == first[t + 1]) continue;
-        const Prism box = prism(std::uint32_t(t));
-        items_.clear();
-        for (std::uint32_t k = first[t]; k < first[t + 1]; ++k) {
-            double zlo, zhi;
-            if (clip_to_prism(&canon[3 * std::size_t(ids[k])], box, zlo, zhi))
-                items_.push_back(depth_item(ids[k], zlo, zhi, grid_.pad));
-        }
-        if (items_.empty()) continue;
-        const std::uint32_t leaves = bsp_.build(items_, block_);
+        const std::uint32_t leaves =
+            bsp_.build(std::span<const DepthItem>(items.data() + first[t], first[t + 1] - first[t]), block_);
         tiles_[t] = TileRef{std::uint32_t(pool_.size()), leaves};
         room_[t] = std::uint32_t(block_.size());
         pool_.insert(pool_.end(), block_.begin(), block_.end());
-        entries_ += block_.size() - (2 * std::size_t(leaves) - 1);
+        entries_ += (block_.size() - (2 * std::size_t(leaves) - 1)) / 2;
         leaves_ += leaves;
     }
     pool_.shrink_to_fit();
@@ -76,7 +80,10 @@ ParallelSubfield::ParallelSubfield(const CanonicalFrame& frame, const SubfieldIn
 }
 
 Prism ParallelSubfield::prism(std::uint32_t tile) const {
-    const int c = int(tile % std::uint32_t(grid_.n)), r = int(tile / std::uint32_t(grid_.n));
+    return prism(int(tile % std::uint32_t(grid_.n)), int(tile / std::uint32_t(grid_.n)));
+}
+
+Prism ParallelSubfield::prism(int c, int r) const {
     const double x0 = grid_.edge(c), y0 = grid_.edge(r), pad = grid_.pad;
     return Prism{x0 - pad, x0 + grid_.h + pad, y0 - pad, y0 + grid_.h + pad};
 }
@@ -93,7 +100,7 @@ void ParallelSubfield::tile_ids(std::uint32_t tile, std::vector<std::uint32_t>& 
     const TileRef ref = tiles_[tile];
     if (ref.leaves == 0) return;
     const TileBspView v = view(ref);
-    out.assign(v.ids(), v.ids() + v.end(ref.leaves - 1));
+    out.assign(v.ids(), v.ids() + v.entries());
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
 }
@@ -102,16 +109,18 @@ void ParallelSubfield::rebuild_tile(std::uint32_t tile, std::span<const std::uin
     TileRef& ref = tiles_[tile];
     if (ref.leaves > 0) {
         const TileBspView old = view(ref);
-        entries_ -= old.end(ref.leaves - 1);
+        entries_ -= old.entries();
         leaves_ -= ref.leaves;
     }
     const Prism box = prism(tile);
+    const FootprintLattice lattice =
+        FootprintLattice::of_tile(grid_, int(tile % std::uint32_t(grid_.n)), int(tile / std::uint32_t(grid_.n)));
     items_.clear();
     for (std::uint32_t id : ids) {
         Vec3d v[3];
         corners(input, id, v);
-        double zlo, zhi;
-        if (clip_to_prism(v, box, zlo, zhi)) items_.push_back(depth_item(id, zlo, zhi, grid_.pad));
+        ClippedBox clipped;
+        if (clip_to_prism(v, box, clipped)) items_.push_back(depth_item(id, clipped, lattice, grid_.pad));
     }
     if (items_.empty()) {
         ref.leaves = 0;  // keeps its offset and room for a later insertion
@@ -127,7 +136,7 @@ void ParallelSubfield::rebuild_tile(std::uint32_t tile, std::span<const std::uin
         pool_.insert(pool_.end(), block_.begin(), block_.end());
     }
     ref.leaves = leaves;
-    entries_ += block_.size() - (2 * std::size_t(leaves) - 1);
+    entries_ += (block_.size() - (2 * std::size_t(leaves) - 1)) / 2;
     leaves_ += leaves;
 }
 

@@ -4,6 +4,7 @@
 // tile's TileBsp block (see tile_bsp.hpp); a fresh build packs the blocks back to back. Dynamic
 // updates (section 8) rebuild the blocks of the tiles a moved triangle touches, in place when the
 // new block fits the old one's room, else at the end of the pool.
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -51,6 +52,7 @@ public:
 private:
     // The padded prism of tile (column, row).
     Prism prism(std::uint32_t tile) const;
+    Prism prism(int column, int row) const;
     // The canonical corners of triangle id.
     void corners(const SubfieldInput& input, std::uint32_t id, Vec3d* out) const;
     // Rebuilds the block of `tile` from the sorted, distinct triangle ids `ids`.

@@ -10,14 +10,16 @@ std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vecto
     splits_.clear();
     ends_.clear();
     ids_.clear();
+    footprints_.clear();
     levels_[0].assign(items.begin(), items.end());
     node(0, -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity());
     const auto leaves = std::uint32_t(ends_.size());
     block.clear();
-    block.reserve(splits_.size() + ends_.size() + ids_.size());
+    block.reserve(splits_.size() + ends_.size() + 2 * ids_.size());
     for (float s : splits_) block.push_back(std::bit_cast<std::uint32_t>(s));
     block.insert(block.end(), ends_.begin(), ends_.end());
     block.insert(block.end(), ids_.begin(), ids_.end());
+    block.insert(block.end(), footprints_.begin(), footprints_.end());
     return leaves;
 }
 
@@ -29,10 +31,14 @@ std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vecto
 void TileBspBuilder::node(int level, float lo, float hi) {
     const std::vector<DepthItem>& items = levels_[std::size_t(level)];
     auto leaf = [&] {
-        for (const DepthItem& it : items) ids_.push_back(it.id);
+        for (const DepthItem& it : items) {
+            ids_.push_back(it.id);
+            footprints_.push_back(it.footprint);
+        }
         ends_.push_back(std::uint32_t(ids_.size()));
     };
-    if (level == depth_ || items.size() <= kLeafTriangles) return leaf();
+    const bool dense = depth_ > 0 && items.size() > kDenseLeaf && level < kMaxDepth;
+    if ((level >= depth_ && !dense) || items.size() <= kLeafTriangles) return leaf();
     centres_.clear();
     for (const DepthItem& it : items) centres_.push_back(0.5f * (std::max(it.lo, lo) + std::min(it.hi, hi)));
     const auto mid = centres_.begin() + std::ptrdiff_t(centres_.size() / 2);

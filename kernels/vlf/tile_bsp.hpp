@@ -3,8 +3,9 @@
 // (constant canonical z), chosen as medians; a triangle goes to every leaf its (clipped, padded)
 // depth range overlaps. The leaves are stored flat, in depth order, in one block of 32-bit words:
 //
-//     [ split_0 .. split_{m-2} ]  [ end_0 .. end_{m-1} ]  [ ids ... ]
-//       float bits, ascending      leaf j's ids are ids[end_{j-1} .. end_j), end_{-1} = 0
+//     [ split_0 .. split_{m-2} ]  [ end_0 .. end_{m-1} ]  [ ids ... ]  [ footprints ... ]
+//       float bits, ascending      leaf j's ids are ids[end_{j-1} .. end_j), end_{-1} = 0;
+//                                  footprints[k] belongs to ids[k] (see tile_footprint.hpp)
 //
 // Leaf j covers depths [split_{j-1}, split_j] (the first and last are open-ended), so the first
 // and last leaf a ray segment needs follow from the depths of its two ends (section 4, Figure 3).
@@ -15,10 +16,12 @@
 
 namespace beamtrace::vlf {
 
-// One triangle of a tile: its id and the depth range of its part inside the tile's prism, padded.
+// One triangle of a tile: its id, the depth range of its part inside the tile's prism (padded) and
+// that part's footprint.
 struct DepthItem {
     std::uint32_t id;
     float lo, hi;
+    std::uint32_t footprint;
 };
 
 // Read access to a block of `leaves` leaves.
@@ -31,21 +34,27 @@ struct TileBspView {
     const std::uint32_t* ids() const { return block + (leaves - 1) + leaves; }
     std::uint32_t begin(std::uint32_t j) const { return j == 0 ? 0 : ends()[j - 1]; }
     std::uint32_t end(std::uint32_t j) const { return ends()[j]; }
+    std::uint32_t entries() const { return end(leaves - 1); }
+    const std::uint32_t* footprints() const { return ids() + entries(); }
     // The leaf whose depth range holds z (the lower one when z is a split).
     std::uint32_t leaf(double z) const {
         std::uint32_t j = 0;
         while (j + 1 < leaves && double(split(j)) < z) ++j;
         return j;
     }
-    std::uint32_t words() const { return (leaves - 1) + leaves + end(leaves - 1); }
+    std::uint32_t words() const { return (leaves - 1) + leaves + 2 * entries(); }
 };
 
 class TileBspBuilder {
 public:
     // Leaves holding at most this many triangles are not split further.
-    static constexpr std::size_t kLeafTriangles = 4;
+    static constexpr std::size_t kLeafTriangles = 8;
+    // Beyond the chosen depth, leaves still holding more than kDenseLeaf triangles keep splitting,
+    // down to kMaxDepth (a deviation from the paper's uniform depth, for dense tiles).
+    static constexpr std::size_t kDenseLeaf = 64;
+    static constexpr int kMaxDepth = 16;
 
-    explicit TileBspBuilder(int depth) : depth_(depth), levels_(std::size_t(depth) + 1) {}
+    explicit TileBspBuilder(int depth) : depth_(depth), levels_(std::size_t(kMaxDepth) + 1) {}
 
     // Builds the tile-BSP of items (sorted by id, non-empty) into `block` (replaced); returns the
     // number of leaves. The same items always give the same block.
@@ -58,7 +67,7 @@ private:
     std::vector<std::vector<DepthItem>> levels_;  // items of the node being built at each level
     std::vector<float> centres_;
     std::vector<float> splits_;
-    std::vector<std::uint32_t> ends_, ids_;
+    std::vector<std::uint32_t> ends_, ids_, footprints_;
 };
 
 }  // namespace beamtrace::vlf

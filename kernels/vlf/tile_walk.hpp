@@ -19,31 +19,33 @@
 #include "vlf/canonical_ray.hpp"
 #include "vlf/mailbox.hpp"
 #include "vlf/parallel_subfield.hpp"
+#include "vlf/tile_footprint.hpp"
 
 namespace beamtrace::vlf {
 
 struct WalkContext {
     const TileGrid* grid = nullptr;
     const Triangle* triangles = nullptr;
+    std::size_t triangle_count = 0;
     const TriangleKernels* kernels = nullptr;
 };
 
 template <bool kOcclusion, bool kFast, bool kCount>
 class TileWalk {
 public:
-    TileWalk(const ParallelSubfield& psf, const WalkContext& ctx, const Ray& ray, Mailbox& mailbox, VlfCounters* counters)
-        : psf_(psf), ctx_(ctx), wray_(make_watertight_ray(ray)), mailbox_(mailbox), counters_(counters) {}
+    TileWalk(const ParallelSubfield& psf, const WalkContext& ctx, const WatertightRay& ray, VlfCounters* counters)
+        : psf_(psf), ctx_(ctx), wray_(ray), counters_(counters) {}
 
     // Closest hit (or, for occlusion, any hit: best.triangle != kNoHit) along the segment of cr.
     Hit run(const CanonicalRay& cr) {
         const TileGrid& g = *ctx_.grid;
-        int c = g.cell(cr.ox + cr.t0 * cr.dx), r = g.cell(cr.oy + cr.t0 * cr.dy);
+        int c = cr.column, r = cr.row;
         if constexpr (kFast) {
             visit(c, r, cr, cr.t0, cr.t1);
             return best_;
         }
         constexpr double kInf = std::numeric_limits<double>::infinity();
-        const double inv_x = 1.0 / cr.dx, inv_y = 1.0 / cr.dy;
+        const double inv_x = cr.inv_dx, inv_y = cr.inv_dy;
         auto next_x = [&] { return cr.dx > 0.0 ? (g.edge(c + 1) - cr.ox) * inv_x : cr.dx < 0.0 ? (g.edge(c) - cr.ox) * inv_x : kInf; };
         auto next_y = [&] { return cr.dy > 0.0 ? (g.edge(r + 1) - cr.oy) * inv_y : cr.dy < 0.0 ? (g.edge(r) - cr.oy) * inv_y : kInf; };
         double tx = next_x(), ty = next_y(), enter = cr.t0;
@@ -73,43 +75,68 @@ private:
         const TileRef ref = psf_.tile(std::uint32_t(r) * std::uint32_t(ctx_.grid->n) + std::uint32_t(c));
         if (ref.leaves == 0) return false;
         const TileBspView bsp = psf_.view(ref);
-        if (ref.leaves == 1) return leaf(bsp, 0) || (!kOcclusion && double(best_.t) <= tb);
+        const FootprintLattice lattice = FootprintLattice::of_tile(*ctx_.grid, c, r);
+        if (ref.leaves == 1) return leaf(bsp, 0, cr, lattice, ta, tb) || (!kOcclusion && double(best_.t) <= tb);
         const std::uint32_t ja = bsp.leaf(cr.oz + ta * cr.dz), jb = bsp.leaf(cr.oz + tb * cr.dz);
-        if (cr.dz > 0.0) {
-            for (std::uint32_t j = ja;; ++j) {
-                if (leaf(bsp, j)) return true;
-                const double end = j < jb ? (double(bsp.split(j)) - cr.oz) / cr.dz : tb;
-                if (!kOcclusion && double(best_.t) <= end) return true;
-                if (j >= jb) return false;
-            }
-        }
-        for (std::uint32_t j = ja;; --j) {
-            if (leaf(bsp, j)) return true;
-            const double end = j > jb ? (double(bsp.split(j - 1)) - cr.oz) / cr.dz : tb;
+        const bool forward = cr.dz > 0.0;
+        double start = ta;
+        for (std::uint32_t j = ja;; forward ? ++j : --j) {
+            double end = tb;
+            if (j != jb) end = (double(bsp.split(forward ? j : j - 1)) - cr.oz) * cr.inv_dz;
+            end = end < start ? start : (end > tb ? tb : end);
+            if (leaf(bsp, j, cr, lattice, start, end)) return true;
             if (!kOcclusion && double(best_.t) <= end) return true;
-            if (j <= jb) return false;
+            if (j == jb) return false;
+            start = end;
         }
     }
 
-    // Tests the untested triangles of leaf j; true if the ray is occluded (occlusion walks only).
-    bool leaf(const TileBspView& bsp, std::uint32_t j) {
+    // Tests the untested triangles of leaf j whose footprint meets the ray's over [ta, tb]; true
+    // if the ray is occluded (occlusion walks only).
+    bool leaf(const TileBspView& bsp, std::uint32_t j, const CanonicalRay& cr, const FootprintLattice& lattice,
+              double ta, double tb) {
         if constexpr (kCount) ++counters_->leaves;
-        const std::uint32_t* ids = bsp.ids();
-        const std::uint32_t e = bsp.end(j);
+        const std::uint32_t first = bsp.begin(j), count = bsp.end(j) - first;
+        const std::uint32_t* ids = bsp.ids() + first;
+        const std::uint32_t* footprints = bsp.footprints() + first;
+        const double xa = cr.ox + ta * cr.dx, xb = cr.ox + tb * cr.dx;
+        const double ya = cr.oy + ta * cr.dy, yb = cr.oy + tb * cr.dy;
+        const std::uint32_t ray = lattice.ray(xa < xb ? xa : xb, xa < xb ? xb : xa, ya < yb ? ya : yb, ya < yb ? yb : ya);
+        const __m128i ray4 = _mm_set1_epi32(int(ray));
         const Triangle* batch[8];
         std::uint32_t batch_ids[8];
         int n = 0;
-        for (std::uint32_t k = bsp.begin(j); k < e; ++k) {
-            const std::uint32_t id = ids[k];
-            if (mailbox_.seen(id)) continue;
+        auto take = [&](std::uint32_t id) {
+            if (already_tested(id)) return false;
             batch[n] = ctx_.triangles + id;
             batch_ids[n] = id;
-            if (++n == 8) {
-                if (test(batch, batch_ids, n)) return true;
-                n = 0;
-            }
-        }
+            if (++n < 8) return false;
+            n = 0;
+            return test(batch, batch_ids, 8);
+        };
+        std::uint32_t k = 0;
+        for (; k + 4 <= count; k += 4)
+            for (unsigned m = footprints_meet4(footprints + k, ray4); m; m &= m - 1)
+                if (take(ids[k + unsigned(__builtin_ctz(m))])) return true;
+        for (; k < count; ++k)
+            if (footprints_meet(footprints[k], ray) && take(ids[k])) return true;
+        ++leaves_done_;
         return n > 0 && test(batch, batch_ids, n);
+    }
+
+    // Mailboxing. The ids of one leaf are distinct, so while a ray is in its first leaf the ids it
+    // tests only go to a small list; the thread's mailbox takes over (with that list) when the ray
+    // reaches a second leaf or the list fills. Most rays never need it.
+    bool already_tested(std::uint32_t id) {
+        if (mailbox_ != nullptr) return mailbox_->seen(id);
+        if (leaves_done_ == 0 && listed_ < kListed) {
+            listed_ids_[listed_++] = id;
+            return false;
+        }
+        mailbox_ = &Mailbox::local();
+        mailbox_->begin(ctx_.triangle_count);
+        for (std::uint32_t k = 0; k < listed_; ++k) mailbox_->seen(listed_ids_[k]);
+        return mailbox_->seen(id);
     }
 
     bool test(const Triangle* const* batch, const std::uint32_t* ids, int n) {
@@ -137,9 +164,12 @@ private:
     const ParallelSubfield& psf_;
     const WalkContext& ctx_;
     WatertightRay wray_;
-    Mailbox& mailbox_;
     VlfCounters* counters_;
     Hit best_;
+    static constexpr std::uint32_t kListed = 32;
+    std::uint32_t listed_ids_[kListed];  // ids tested in the first leaf, before the mailbox
+    std::uint32_t listed_ = 0, leaves_done_ = 0;
+    Mailbox* mailbox_ = nullptr;
 };
 
 }  // namespace beamtrace::vlf

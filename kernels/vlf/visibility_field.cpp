@@ -33,7 +33,7 @@ VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o) : options(o
         if (sb.lower[k] < bounds.lower[k] || sb.upper[k] > bounds.upper[k])
             throw Error("VLF bounds do not contain the scene's box");
     grid = vlf::TileGrid::around(bounds, o.tiles);
-    clip_radius = grid.radius + grid.pad;
+    world_box = vlf::WorldBox::around(bounds, grid.pad);
     const std::size_t count = scene.triangle_count();
     triangles.assign(scene.triangles().begin(), scene.triangles().end());
     inserted.assign(count, 1);
@@ -45,6 +45,34 @@ VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o) : options(o
     for (std::size_t i = 0; i < psfs.size(); ++i) ready[i].store(nullptr, std::memory_order_relaxed);
     build_locks = std::make_unique<std::mutex[]>(psfs.size());
     kernels = &triangle_kernels();
+    // The packet lookup's tables.
+    const DirectionSet::Impl& d = directions.impl();
+    const std::size_t l = frames.size();
+    lookup.frames.resize(9 * l);
+    for (std::size_t i = 0; i < l; ++i) {
+        const vlf::Vec3d rows[3] = {frames[i].e1, frames[i].e2, frames[i].e3};
+        for (int r = 0; r < 3; ++r) {
+            lookup.frames[(3 * r + 0) * l + i] = rows[r].x;
+            lookup.frames[(3 * r + 1) * l + i] = rows[r].y;
+            lookup.frames[(3 * r + 2) * l + i] = rows[r].z;
+        }
+    }
+    vlf::LookupTables& t = lookup.tables;
+    t.dir_x = d.dx.data();
+    t.dir_y = d.dy.data();
+    t.dir_z = d.dz.data();
+    t.candidate_pairs = reinterpret_cast<const std::int32_t*>(d.candidate_pairs.data());
+    t.table = d.table;
+    t.pairs_per_cell = d.per_cell / 2;
+    t.half_table = d.half_table;
+    t.frames = lookup.frames.data();
+    t.count = int(l);
+    t.centre[0] = grid.centre.x; t.centre[1] = grid.centre.y; t.centre[2] = grid.centre.z;
+    t.radius = grid.radius;
+    t.inv_h = grid.inv_h;
+    t.tiles = grid.n;
+    t.box = world_box;
+    lookup_kernel = vlf::lookup_packet_kernel(kernels->isa);
 }
 
 const vlf::ParallelSubfield& VisibilityField::Impl::build(std::uint32_t i) const {
@@ -64,8 +92,8 @@ Hit trace(const VisibilityField::Impl& f, const Ray& ray, VlfMode mode, VlfCount
     if (!(s > 0.0f && s < kInfinity)) return Hit{};
     const DirectionSet::Nearest nearest = f.directions.impl().nearest(ray.dir.x, ray.dir.y, ray.dir.z);
     vlf::CanonicalRay cr;
-    if (!vlf::make_canonical_ray(f.frames[nearest.index], f.grid, f.clip_radius, ray, cr)) return Hit{};
-    return vlf::walk_field<kOcclusion, kCount>(f, f.psf(nearest.index), cr, ray, mode, counters);
+    if (!vlf::make_canonical_ray(f.frames[nearest.index], f.grid, f.world_box, ray, cr)) return Hit{};
+    return vlf::walk_field<kOcclusion, kCount>(f, f.psf(nearest.index), cr, make_watertight_ray(ray), mode, counters);
 }
 
 }  // namespace

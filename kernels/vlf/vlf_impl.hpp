@@ -9,6 +9,8 @@
 #include "beamtrace/vlf.hpp"
 #include "common/triangle_kernels.hpp"
 #include "vlf/canonical_frame.hpp"
+#include "vlf/canonical_ray.hpp"
+#include "vlf/packet_lookup.hpp"
 #include "vlf/parallel_subfield.hpp"
 
 namespace beamtrace {
@@ -17,13 +19,15 @@ struct VisibilityField::Impl {
     VlfOptions options;
     DirectionSet directions;
     vlf::TileGrid grid;
-    double clip_radius = 0.0;  // sphere rays are cut to: R + pad
     Box bounds;                // the volume triangles must stay in
+    vlf::WorldBox world_box;   // bounds grown by the padding: rays are cut to it
     std::vector<Triangle> triangles;
     std::vector<std::uint8_t> inserted;  // in the field (not removed)
     std::vector<std::uint8_t> present;   // inserted and of non-zero area: what PSFs hold
     std::vector<vlf::CanonicalFrame> frames;
     const TriangleKernels* kernels = nullptr;
+    vlf::LookupStorage lookup;                     // what the packet lookup reads
+    vlf::LookupPacketFn lookup_kernel = nullptr;   // nullptr: lane by lane
 
     // PSF i, once built, is psfs[i]; ready[i] publishes it to queries without a lock.
     mutable std::vector<std::unique_ptr<vlf::ParallelSubfield>> psfs;

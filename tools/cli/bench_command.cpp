@@ -21,6 +21,7 @@ struct BenchArgs {
     MlrtaSettings mlrta;
     VlfOptions vlf;
     std::string ao_dirs = "random";
+    KdBuildRules kd;
 };
 
 std::vector<std::string> split_list(const std::string& text) {
@@ -62,11 +63,17 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--engines", args->engines, "comma-separated engines: " + names)->required();
     cmd->add_option("--ao-rays", args->ao_rays, "occlusion rays per pixel in ao mode")->capture_default_str()->check(CLI::Range(1, 4096));
     cmd->add_option("--repeats", args->repeats, "timed runs per engine (the best is reported)")->capture_default_str()->check(CLI::Range(1, 1000));
+    cmd->add_option("--kd-traversal-cost", args->kd.traversal_cost, "kd-tree SAH: cost of a traversal step")->capture_default_str();
+    cmd->add_option("--kd-intersection-cost", args->kd.intersection_cost, "kd-tree SAH: cost of a triangle test")->capture_default_str();
+    cmd->add_option("--kd-empty-cell", args->kd.empty_cell_min_volume_fraction, "kd-tree rule 1: cut off empty cells of at least this fraction of the parent volume (0 = off)")->capture_default_str();
+    cmd->add_flag("!--kd-no-flat-cell", args->kd.flat_cell_rule, "kd-tree rule 2 off: no preference for planes covered by coplanar triangles");
+    cmd->add_option("--kd-max-depth", args->kd.max_depth, "kd-tree: deepest level (0 = automatic)")->capture_default_str();
+    cmd->add_option("--kd-tiny-cell", args->kd.tiny_cell_min_area_fraction, "kd-tree rule 3: no cells with less than this fraction of the scene box area (0 = off)")->capture_default_str();
     cmd->add_option("--mlrta-tile", args->mlrta.initial_tile, "mlrta: initial tile size in pixels (ITS)")->capture_default_str();
     cmd->add_option("--mlrta-split", args->mlrta.split_factor, "mlrta: sub-tiles per split (SF), 4 or 16")->capture_default_str();
     cmd->add_option("--mlrta-min-tile", args->mlrta.min_tile, "mlrta: minimum tile size in pixels (MTS)")->capture_default_str();
     cmd->add_option("--mlrta-frustum", args->mlrta_frustum, "mlrta: entry-point culling, inverse | direct")->capture_default_str();
-    cmd->add_flag("!--no-triangle-culling", args->mlrta.triangle_culling, "kd16/mlrta: test every triangle of a leaf (no box culling)");
+    cmd->add_flag("--triangle-culling", args->mlrta.triangle_culling, "kd16/mlrta: cull triangles whose box a packet cannot meet before testing them");
     cmd->add_option("--vlf-dirs", args->vlf.directions, "vlf: beam directions l (2 m^2 + 1: 33, 129, 513, ...)")->capture_default_str();
     cmd->add_option("--vlf-tiles", args->vlf.tiles, "vlf: tiles per side n of each parallel subfield")->capture_default_str();
     cmd->add_option("--vlf-depth", args->vlf.depth, "vlf: tile-BSP depth d (0 = one leaf per tile)")->capture_default_str();
@@ -94,6 +101,12 @@ std::function<void()> add_bench_command(CLI::App& app) {
         args->mlrta.frustum_test = args->mlrta_frustum == "direct" ? FrustumTest::direct : FrustumTest::inverse;
         args->mlrta.validate();
         bo.engine_options.mlrta = args->mlrta;
+        KdBuildRules kd = args->kd;
+        kd.empty_cell_rule = kd.empty_cell_min_volume_fraction > 0.0f;
+        if (!kd.empty_cell_rule) kd.empty_cell_min_volume_fraction = 0.1f;
+        kd.tiny_cell_rule = kd.tiny_cell_min_area_fraction > 0.0f;
+        kd.validate();
+        bo.engine_options.kd_rules = kd;
         args->vlf.validate();
         bo.engine_options.vlf = args->vlf;
         for (const std::string& e : bo.engines) workload::make_engine(e);  // reject unknown names before loading

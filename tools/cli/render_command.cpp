@@ -23,7 +23,7 @@ std::function<void()> add_render_command(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("render", "write a PNG picture of what one engine sees");
     add_scene_options(*cmd, args->scene);
     cmd->add_option("--engine", args->engine, "engine that traces the picture")->capture_default_str();
-    cmd->add_option("--shade", args->shade, "normal | depth | ao")->capture_default_str();
+    cmd->add_option("--shade", args->shade, "normal | depth | ao | complexity (mlrta: subtree size below each tile's entry point)")->capture_default_str();
     cmd->add_option("--ao-rays", args->ao_rays, "occlusion rays per pixel for --shade ao")->capture_default_str()->check(CLI::Range(1, 4096));
     cmd->add_option("--out", args->out, "PNG file to write")->required();
     return [args] {

@@ -40,6 +40,9 @@ public:
     // Engine statistics (build and traversal counters). Engines that count do so in an extra,
     // untimed pass over the same rays with the counting variant of the same traversal code.
     virtual nlohmann::json stats(const RaySet& rays) const = 0;
+    // Engines that trace tiles of beams report each tile's entry point and subtree size (MLRTA's
+    // geometric complexity); the others return false.
+    virtual bool tile_complexity(const RaySet&, std::vector<TileInfo>&) const { return false; }
 };
 
 // Every engine name, in the order of the table: embree1, embree16, brute, kd1, kd16, mlrta, ...

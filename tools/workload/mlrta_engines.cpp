@@ -1,5 +1,7 @@
 // kd16 (4x4 packets by interval traversal from the root: the paper's "no MLRT") and mlrta (tiles,
 // beams, entry-point search, tile splitting, interval traversal from the entry points).
+#include <mutex>
+
 #include "beamtrace/error.hpp"
 #include "beamtrace/mlrta.hpp"
 #include "workload/engine_registry.hpp"
@@ -77,6 +79,18 @@ public:
         j["frustum_test"] = s.frustum_test == FrustumTest::inverse ? "inverse" : "direct";
         j["kd_nodes"] = tree_->stats().nodes;
         return j;
+    }
+
+    bool tile_complexity(const RaySet& rays, std::vector<TileInfo>& tiles) const override {
+        if (!beams_ || rays.packets_x == 0) return false;
+        std::vector<PacketHits16> hits(rays.packets.size());
+        std::mutex mutex;
+        const PacketGrid grid{rays.packets.data(), rays.packets_x, rays.packets_y};
+        mlrta_->intersect(grid, hits.data(), 1, nullptr, [&](const TileInfo& t) {
+            std::lock_guard<std::mutex> lock(mutex);
+            tiles.push_back(t);
+        });
+        return true;
     }
 
 private:

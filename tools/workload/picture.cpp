@@ -12,12 +12,39 @@ Shade parse_shade(const std::string& text) {
     if (text == "normal") return Shade::normal;
     if (text == "depth") return Shade::depth;
     if (text == "ao") return Shade::ao;
-    throw Error("unknown shading '" + text + "' (expected normal, depth or ao)");
+    if (text == "complexity") return Shade::complexity;
+    throw Error("unknown shading '" + text + "' (expected normal, depth, ao or complexity)");
 }
+
+namespace {
+
+report::Image complexity_picture(const Engine& engine, const RaySet& primary) {
+    std::vector<TileInfo> tiles;
+    if (!engine.tile_complexity(primary, tiles))
+        throw Error("--shade complexity needs an engine that traces beams of tiles (mlrta), not " + engine.name());
+    report::Image image(primary.width, primary.height);
+    double most = 1.0;
+    for (const TileInfo& t : tiles) most = std::max(most, std::log2(double(std::max<std::size_t>(t.subtree_nodes, 1))));
+    for (const TileInfo& t : tiles) {
+        report::Rgb8 c{32, 32, 40};
+        if (t.divergent) c = report::Rgb8{220, 30, 30};
+        else if (t.subtree_nodes > 0) c = report::heat_color(std::log2(double(t.subtree_nodes)) / most);
+        for (int y = t.y0 * 4; y < std::min(t.y1 * 4, primary.height); ++y)
+            for (int x = t.x0 * 4; x < std::min(t.x1 * 4, primary.width); ++x) {
+                const bool border = !t.divergent && (x == t.x0 * 4 || y == t.y0 * 4);
+                const report::Rgb8 p = border ? report::Rgb8{std::uint8_t(c.r / 2), std::uint8_t(c.g / 2), std::uint8_t(c.b / 2)} : c;
+                image.set(x, y, p.r, p.g, p.b);
+            }
+    }
+    return image;
+}
+
+}  // namespace
 
 report::Image render_picture(const Engine& engine, const Scene& scene, const scenes::Camera& camera,
                              const PictureOptions& o) {
     const RaySet primary = make_primary_rays(camera, o.width, o.height);
+    if (o.shade == Shade::complexity) return complexity_picture(engine, primary);
     std::vector<Hit> hits;
     engine.intersect(primary, hits, o.threads);
     report::Image image(o.width, o.height);
