@@ -73,6 +73,8 @@ public:
     // Read-only view of the tree for other traversal algorithms in the library (beams, packets).
     struct Impl;
     const Impl& impl() const { return *impl_; }
+    // A tree assembled by other means (tests build trees node by node to reach exact cases).
+    static KdTree from_impl(std::shared_ptr<const Impl> impl) { return KdTree(std::move(impl)); }
 
 private:
     explicit KdTree(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}

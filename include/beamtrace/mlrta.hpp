@@ -19,11 +19,24 @@ enum class FrustumTest {
     direct,   // Assarsson-Moller 4-plane n-vertex test (beams with one origin; others use inverse)
 };
 
+enum class EpSearch {
+    // The paper's steps 1-3: depth first to the first potential leaf, stacking bifurcations, then
+    // the stack popped deepest first, each node's other subtree searched for a potential leaf.
+    bifurcation_stack,
+    // The same entry point found top down: the first node whose both subtrees hold potential leaves
+    // (or the first potential leaf), without searching below the deeper bifurcations (default).
+    top_down,
+};
+
 struct MlrtaSettings {
     int initial_tile = 128;  // ITS, pixels (a multiple of 4)
     int split_factor = 16;   // SF: 4 (2x2) or 16 (4x4) sub-tiles
     int min_tile = 4;        // MTS, pixels (a multiple of 4): tiles this small go to XP search
     FrustumTest frustum_test = FrustumTest::inverse;
+    EpSearch ep_search = EpSearch::top_down;
+    // Stop splitting a tile whose entry point is the same as its parent's (not in the paper, which
+    // splits down to the minimum size unless the entry point is a leaf).
+    bool stop_when_stuck = true;
     // Skip triangles whose box the packet cannot meet (test (2) per triangle). It removes most tests
     // (intersections_per_packet) but costs about as much as it saves with 16-wide triangle tests,
     // so it is off by default (docs/mlrta.md has the numbers).

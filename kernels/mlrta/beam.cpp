@@ -42,7 +42,57 @@ void Beam::add(const Ray& ray) {
 }
 
 void Beam::add(const Packet16& packet) {
-    for (std::uint32_t m = packet.active; m; m &= m - 1) add(packet.ray(__builtin_ctz(m)));
+    // Per-component ranges of the active rays, then the slopes by interval division: looser than
+    // per-ray slopes but a few operations per ray (this runs for every packet of every tile).
+    const std::uint32_t active = packet.active & 0xFFFFu;
+    if (active == 0) return;
+    const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
+    const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
+    Interval d[3], s[3];
+    float len_lo = kInfinity, len_hi = -kInfinity;
+    bool first = true, has_zero = false;
+    int negative[3] = {0, 0, 0};
+    for (std::uint32_t m = active; m; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        const float mag = std::fabs(dir[main_of(packet, active)][i]);
+        for (int k = 0; k < 3; ++k) {
+            const float v = dir[k][i], p = org[k][i] + v * packet.tnear[i];
+            has_zero = has_zero || v == 0.0f;
+            negative[k] += std::signbit(v) ? 1 : 0;
+            d[k] = first ? Interval{v, v} : Interval{std::min(d[k].lo, v), std::max(d[k].hi, v)};
+            s[k] = first ? Interval{p, p} : Interval{std::min(s[k].lo, p), std::max(s[k].hi, p)};
+        }
+        const float len = (packet.tfar[i] - packet.tnear[i]) * mag;
+        len_lo = std::min(len_lo, len);
+        len_hi = std::max(len_hi, len);
+        first = false;
+    }
+    Beam b;
+    b.empty = false;
+    b.rays = std::uint32_t(__builtin_popcount(active));
+    b.main_axis = main_of(packet, active);
+    b.starts.lower = Float3{s[0].lo, s[1].lo, s[2].lo};
+    b.starts.upper = Float3{s[0].hi, s[1].hi, s[2].hi};
+    b.length = {len_lo, len_hi};
+    b.pad = pad;
+    const int n = int(b.rays);
+    b.coherent = !has_zero;
+    for (int k = 0; k < 3; ++k) {
+        if (negative[k] != 0 && negative[k] != n) b.coherent = false;
+        b.sign[k] = negative[k] == n ? -1 : 1;
+    }
+    if (b.coherent) {
+        for (int k = 0; k < 3; ++k) {
+            const Interval inv = {1.0f / d[k].hi, 1.0f / d[k].lo};  // d[k] has one sign
+            for (int j = 0; j < 3; ++j) b.slope[k][j] = j == k ? Interval{1.0f, 1.0f} : widen(d[j] * inv, 0.0f);
+        }
+    }
+    merge(b);
+}
+
+int Beam::main_of(const Packet16& packet, std::uint32_t active) {
+    const int i = __builtin_ctz(active);
+    return dominant_axis(Float3{packet.dir_x[i], packet.dir_y[i], packet.dir_z[i]});
 }
 
 void Beam::merge(const Beam& o) {

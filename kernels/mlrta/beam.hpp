@@ -25,7 +25,7 @@ struct Beam {
 
     // Adds one ray (a zero direction component or a sign disagreement makes the beam incoherent).
     void add(const Ray& ray);
-    // Adds the active rays of a packet.
+    // Adds the active rays of a packet (slopes from per-component ranges: a little looser, cheaper).
     void add(const Packet16& packet);
     void merge(const Beam& other);
     // Sets the absolute padding from the size of the scene the beam is traced in.
@@ -36,6 +36,9 @@ struct Beam {
     Interval plane_range(int k, float p, int j) const;
     // Range of the parameter t' at which the rays cross the plane x_k = p (t' = 0 at the starts).
     Interval plane_t(int k, float p) const;
+
+private:
+    static int main_of(const Packet16& packet, std::uint32_t active);
 };
 
 // A beam from a rectangle of pixels of a pinhole camera without generating its rays: the rays of

@@ -72,8 +72,8 @@ public:
         return t.lo >= 0.0f && t.hi <= beam_.length.lo;
     }
 
-    // Depth first below `root`: is there any leaf with potential intersections?
-    bool any_potential_leaf(const NodeBox& root) {
+    // Depth first (near child first) below `root`: the first leaf with potential intersections, if any.
+    bool first_potential_leaf(const NodeBox& root, NodeBox& leaf) {
         NodeBox stack[kStackSize];
         int top = 0;
         stack[top++] = root;
@@ -81,7 +81,10 @@ public:
             const NodeBox n = stack[--top];
             ++steps_;
             if (kd_.nodes[n.node].is_leaf()) {
-                if (potential_leaf(n)) return true;
+                if (potential_leaf(n)) {
+                    leaf = n;
+                    return true;
+                }
                 continue;
             }
             NodeBox kids[2];
@@ -91,7 +94,14 @@ public:
         return false;
     }
 
-    EntryPoint run(const EntryPoint& start) {
+    // Depth first below `root`: is there any leaf with potential intersections?
+    bool any_potential_leaf(const NodeBox& root) {
+        NodeBox leaf;
+        return first_potential_leaf(root, leaf);
+    }
+
+    // Steps 1-3 of the paper with the bifurcation stack, in the paper's order.
+    EntryPoint run_bifurcation_stack(const EntryPoint& start) {
         Bifurcation bif[kStackSize];
         int top = 0;
         NodeBox n{start.node, start.box};
@@ -135,6 +145,53 @@ public:
         return EntryPoint{candidate.node, candidate.box, false};
     }
 
+    // The paper's steps 1-3 find the first potential leaf L depth first, stack the bifurcations on
+    // the way, and then pop them deepest first, each becoming the candidate when its other subtree
+    // holds a potential leaf: the result is the *shallowest* stacked node with potential leaves on
+    // both sides, or L. This walk finds the same node top down, so it can stop at the first such
+    // node instead of searching below every deeper one: from the start, follow single children;
+    // at a node with two possible children, search the near one for a potential leaf (the first
+    // one found overall is L, where termination (4) is checked), then the far one; both: that node
+    // is the entry point; one: continue into it; none: the beam misses everything.
+    EntryPoint run_top_down(const EntryPoint& start) {
+        NodeBox n{start.node, start.box};
+        bool first_leaf_seen = false;
+        auto at_first_leaf = [&](const NodeBox& leaf) {
+            const bool ends = !first_leaf_seen && all_rays_end_in(leaf);
+            first_leaf_seen = true;
+            return ends;
+        };
+        for (;;) {
+            ++steps_;
+            if (kd_.nodes[n.node].is_leaf()) {
+                if (!potential_leaf(n)) break;
+                at_first_leaf(n);
+                return EntryPoint{n.node, n.box, false};
+            }
+            NodeBox kids[2];
+            const int c = children(n, kids);
+            if (c == 0) break;
+            if (c == 1) {
+                n = kids[0];
+                continue;
+            }
+            NodeBox leaf;
+            if (!first_potential_leaf(kids[0], leaf)) {
+                n = kids[1];
+                continue;
+            }
+            if (at_first_leaf(leaf)) return EntryPoint{leaf.node, leaf.box, false};
+            if (!first_potential_leaf(kids[1], leaf)) {
+                n = kids[0];
+                continue;
+            }
+            return EntryPoint{n.node, n.box, false};
+        }
+        EntryPoint none = start;
+        none.misses = true;
+        return none;
+    }
+
 private:
     const Mlrta::Impl& m_;
     const KdTree::Impl& kd_;
@@ -146,7 +203,9 @@ private:
 }  // namespace
 
 EntryPoint entry_point_search(const Mlrta::Impl& m, const Beam& beam, const EntryPoint& start, std::uint64_t& steps) {
-    return Search(m, beam, steps).run(start);
+    Search search(m, beam, steps);
+    return m.settings.ep_search == EpSearch::bifurcation_stack ? search.run_bifurcation_stack(start)
+                                                               : search.run_top_down(start);
 }
 
 }  // namespace beamtrace::mlrta

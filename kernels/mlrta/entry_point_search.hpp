@@ -15,7 +15,8 @@ namespace beamtrace::mlrta {
 // becomes the candidate. The search ends when the stack is empty, or at once when the first
 // candidate is a flat leaf completely covered by triangles that every ray of the beam must cross
 // within its segment (all rays end there). A beam with no potential leaf at all gets `misses`.
-// `steps` counts the nodes visited.
+// `steps` counts the nodes visited. settings.ep_search chooses the paper's order (bifurcation
+// stack) or the top-down walk that returns the same node with fewer steps.
 EntryPoint entry_point_search(const Mlrta::Impl& m, const Beam& beam, const EntryPoint& start, std::uint64_t& steps);
 
 }  // namespace beamtrace::mlrta

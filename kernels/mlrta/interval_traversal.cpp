@@ -50,6 +50,73 @@ bool packet_misses_box(const PacketBounds& pb, const Box& box, float t0, float t
     return false;
 }
 
+// For a packet whose rays share one origin: the range of every slope dir_j / dir_m (m the main
+// axis), widened. A triangle lies outside the packet's frustum when all three corners are in front
+// of the origin and beyond the same side of one slope range (a handful of operations per triangle).
+struct PacketFrustum {
+    bool valid = false;
+    int m = 0;
+    float sm = 1.0f;
+    Float3 origin;
+    Interval slope[3];
+
+    bool misses(const Triangle& t) const {
+        const Float3* corner = &t.v0;
+        Float3 c[3];
+        float w[3];
+        for (int v = 0; v < 3; ++v) {
+            c[v] = corner[v] - origin;
+            w[v] = c[v][m] * sm;  // distance in front of the origin along the main axis
+            if (!(w[v] > 0.0f)) return false;  // a corner behind the origin: no decision
+        }
+        for (int j = 0; j < 3; ++j) {
+            if (j == m) continue;
+            bool below = true, above = true;
+            for (int v = 0; v < 3; ++v) {
+                // The corner's slope c_j / |c_m| and a bound on its rounding error (the subtractions
+                // lose up to an ulp of the coordinates involved).
+                const float q = c[v][j] / w[v];
+                const float scale = std::fabs(corner[v][j]) + std::fabs(origin[j]) +
+                                    std::fabs(q) * (std::fabs(corner[v][m]) + std::fabs(origin[m]));
+                const float e = scale * (1.0f / 2097152.0f) / w[v];
+                below = below && q + e < slope[j].lo;
+                above = above && q - e > slope[j].hi;
+            }
+            if (below || above) return true;
+        }
+        return false;
+    }
+};
+
+PacketFrustum packet_frustum(const Packet16& packet, std::uint32_t mask, const PacketBounds& pb) {
+    PacketFrustum f;
+    for (int k = 0; k < 3; ++k)
+        if (pb.org[k].lo != pb.org[k].hi) return f;
+    const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
+    const int first = __builtin_ctz(mask);
+    const Float3 d0{dir[0][first], dir[1][first], dir[2][first]};
+    const float a0 = std::fabs(d0.x), a1 = std::fabs(d0.y), a2 = std::fabs(d0.z);
+    f.m = a0 >= a1 ? (a0 >= a2 ? 0 : 2) : (a1 >= a2 ? 1 : 2);
+    f.sm = float(pb.sign[f.m]);
+    f.origin = Float3{pb.org[0].lo, pb.org[1].lo, pb.org[2].lo};
+    for (int j = 0; j < 3; ++j) f.slope[j] = {kInfinity, -kInfinity};
+    for (std::uint32_t b = mask; b; b &= b - 1) {
+        const int i = __builtin_ctz(b);
+        const float dm = std::fabs(dir[f.m][i]);
+        for (int j = 0; j < 3; ++j) {
+            const float q = dir[j][i] / dm;
+            f.slope[j] = {std::min(f.slope[j].lo, q), std::max(f.slope[j].hi, q)};
+        }
+    }
+    // Slopes of rays and corners both carry rounding: widen generously (relative and absolute).
+    for (int j = 0; j < 3; ++j) {
+        const float spread = (f.slope[j].hi - f.slope[j].lo) + std::fabs(f.slope[j].lo) + std::fabs(f.slope[j].hi);
+        f.slope[j] = {f.slope[j].lo - spread * 1e-4f - 1e-6f, f.slope[j].hi + spread * 1e-4f + 1e-6f};
+    }
+    f.valid = true;
+    return f;
+}
+
 struct StackEntry {
     std::uint32_t node;
     float c0, c1;
@@ -130,6 +197,8 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
         return d + std::fabs(d) * kRelativePad;
     };
 
+    PacketFrustum frustum;
+    if (m.settings.triangle_culling) frustum = packet_frustum(packet, mask, pb);
     WatertightPacket16 wp = make_watertight_packet(packet);
     wp.active = mask;
     const TriangleKernels& kernels = *kd.kernels;
@@ -184,7 +253,9 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
                 std::uint32_t& slot = mailbox[id % kMailboxSize];
                 if (slot == id) continue;  // already tested for every lane: the result cannot change
                 const Triangle& tri = tris[id];
-                if (m.settings.triangle_culling) {  // culled here may still be needed in a later cell
+                if (frustum.valid) {  // a culled triangle may still be needed in a later cell
+                    if (frustum.misses(tri)) continue;
+                } else if (m.settings.triangle_culling) {
                     Box tb;
                     tb.extend(tri.v0); tb.extend(tri.v1); tb.extend(tri.v2);
                     if (packet_misses_box(pb, tb, c0, reach)) continue;

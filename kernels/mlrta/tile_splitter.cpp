@@ -61,7 +61,11 @@ void TileSplitter<kOcclusion, kCount>::trace_tile(int x0, int y0, int x1, int y1
         std::uint64_t steps = 0;
         found = entry_point_search(m_, beam, ep, steps);
         if constexpr (kCount) counters_->ep_steps += steps;
-        if (found.misses || small || m_.kd().nodes[found.node].is_leaf()) {
+        // Stop splitting at a leaf (the paper's rule), at the minimum size, or when the search made
+        // no progress: a tile whose entry point is its parent's rarely has parts that do better,
+        // and their searches would cost more than they save.
+        const bool stuck = found.node == ep.node && m_.settings.stop_when_stuck;
+        if (found.misses || small || stuck || m_.kd().nodes[found.node].is_leaf()) {
             trace_packets(x0, y0, x1, y1, found, false);
             return;
         }

@@ -18,6 +18,7 @@ struct BenchArgs {
     std::string light, mode = "primary", engines, json, markdown;
     int ao_rays = 16, repeats = 3;
     std::string mlrta_frustum = "inverse";
+    std::string mlrta_ep_search = "top-down";
     MlrtaSettings mlrta;
     VlfOptions vlf;
     std::string ao_dirs = "random";
@@ -73,6 +74,7 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--mlrta-split", args->mlrta.split_factor, "mlrta: sub-tiles per split (SF), 4 or 16")->capture_default_str();
     cmd->add_option("--mlrta-min-tile", args->mlrta.min_tile, "mlrta: minimum tile size in pixels (MTS)")->capture_default_str();
     cmd->add_option("--mlrta-frustum", args->mlrta_frustum, "mlrta: entry-point culling, inverse | direct")->capture_default_str();
+    cmd->add_option("--mlrta-ep-search", args->mlrta_ep_search, "mlrta: entry-point search order, top-down | bifurcation-stack (same entry points)")->capture_default_str();
     cmd->add_flag("--triangle-culling", args->mlrta.triangle_culling, "kd16/mlrta: cull triangles whose box a packet cannot meet before testing them");
     cmd->add_option("--vlf-dirs", args->vlf.directions, "vlf: beam directions l (2 m^2 + 1: 33, 129, 513, ...)")->capture_default_str();
     cmd->add_option("--vlf-tiles", args->vlf.tiles, "vlf: tiles per side n of each parallel subfield")->capture_default_str();
@@ -99,6 +101,9 @@ std::function<void()> add_bench_command(CLI::App& app) {
         if (args->mlrta_frustum != "inverse" && args->mlrta_frustum != "direct")
             throw Error("--mlrta-frustum must be inverse or direct, not '" + args->mlrta_frustum + "'");
         args->mlrta.frustum_test = args->mlrta_frustum == "direct" ? FrustumTest::direct : FrustumTest::inverse;
+        if (args->mlrta_ep_search != "top-down" && args->mlrta_ep_search != "bifurcation-stack")
+            throw Error("--mlrta-ep-search must be top-down or bifurcation-stack, not '" + args->mlrta_ep_search + "'");
+        args->mlrta.ep_search = args->mlrta_ep_search == "top-down" ? EpSearch::top_down : EpSearch::bifurcation_stack;
         args->mlrta.validate();
         bo.engine_options.mlrta = args->mlrta;
         KdBuildRules kd = args->kd;

@@ -77,6 +77,7 @@ public:
         j["split_factor"] = s.split_factor;
         j["min_tile"] = s.min_tile;
         j["frustum_test"] = s.frustum_test == FrustumTest::inverse ? "inverse" : "direct";
+        j["ep_search"] = s.ep_search == EpSearch::top_down ? "top-down" : "bifurcation-stack";
         j["kd_nodes"] = tree_->stats().nodes;
         return j;
     }

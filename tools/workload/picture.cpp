@@ -56,6 +56,7 @@ report::Image render_picture(const Engine& engine, const Scene& scene, const sce
         image.set(int(pixel % std::uint32_t(o.width)), int(pixel / std::uint32_t(o.width)), c.r, c.g, c.b);
     };
     switch (o.shade) {
+        case Shade::complexity: break;  // handled above
         case Shade::normal:
             for (std::size_t s = 0; s < primary.slots(); ++s)
                 if (primary.active(s) && hits[s].hit())
