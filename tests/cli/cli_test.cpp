@@ -97,6 +97,29 @@ TEST(Cli, BenchWritesTheJsonContract) {
     }
 }
 
+TEST(Cli, ComplexityPictureNeedsBeams) {
+    const fs::path png = temp_dir() / "complexity.png";
+    const CommandResult ok = run("render --scene tetra:4 --engine mlrta --shade complexity --width 64 --height 64 --out " +
+                                 png.string());
+    ASSERT_EQ(ok.exit_code, 0) << ok.output;
+    EXPECT_TRUE(fs::exists(png));
+    const CommandResult bad = run("render --scene tetra:4 --engine kd1 --shade complexity --width 64 --height 64 --out " +
+                                  png.string());
+    EXPECT_EQ(bad.exit_code, 2) << bad.output;
+    EXPECT_NE(bad.output.find("mlrta"), std::string::npos) << bad.output;
+}
+
+TEST(Cli, MlrtaAndKdSettingsAreChecked) {
+    EXPECT_EQ(run("bench --scene tetra:1 --engines mlrta --mlrta-split 3").exit_code, 2);
+    EXPECT_EQ(run("bench --scene tetra:1 --engines mlrta --mlrta-frustum sideways").exit_code, 2);
+    EXPECT_EQ(run("bench --scene tetra:1 --engines mlrta --mlrta-ep-search random").exit_code, 2);
+    EXPECT_EQ(run("bench --scene tetra:1 --engines kd1 --kd-intersection-cost -1").exit_code, 2);
+    const CommandResult r = run("bench --scene tetra:3 --engines kd16,mlrta --width 32 --height 32 --repeats 1 "
+                                "--mlrta-tile 16 --mlrta-split 4 --mlrta-min-tile 8 --mlrta-frustum direct "
+                                "--mlrta-ep-search bifurcation-stack --triangle-culling --kd-tiny-cell 0");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 TEST(Cli, RenderWritesAPng) {
     const fs::path png = temp_dir() / "sub" / "picture.png";
     for (const char* shade : {"normal", "depth", "ao"}) {
