@@ -84,9 +84,11 @@ struct VlfCounters {
     std::uint64_t rays = 0;
     std::uint64_t tiles = 0;           // tiles visited (empty ones included)
     std::uint64_t leaves = 0;          // tile-BSP leaves visited
+    std::uint64_t entries = 0;         // tile entries whose footprint was compared with the ray's
     std::uint64_t triangle_tests = 0;  // ray/triangle tests (each triangle at most once per ray)
     VlfCounters& operator+=(const VlfCounters& o) {
-        rays += o.rays; tiles += o.tiles; leaves += o.leaves; triangle_tests += o.triangle_tests;
+        rays += o.rays; tiles += o.tiles; leaves += o.leaves; entries += o.entries;
+        triangle_tests += o.triangle_tests;
         return *this;
     }
 };
@@ -121,6 +123,13 @@ public:
     // then each ray walks its own tiles. Inactive rays report no hit. Returns bit i = ray i occluded.
     void intersect(const Packet16& packet, PacketHits16& hits, VlfMode mode = VlfMode::exact) const;
     std::uint32_t occluded(const Packet16& packet, VlfMode mode = VlfMode::exact) const;
+    // Many packets at once, traced grouped by PSF rather than in the given order: the rays are
+    // binned by the PSF their lookup picks (a counting sort) and regrouped into packets PSF by PSF,
+    // so that each PSF's tiles are read while they are in the cache (incoherent secondary rays).
+    // Same answers as the packets one by one; one element of hits / occluded per packet.
+    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, VlfMode mode = VlfMode::exact) const;
+    void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded,
+                  VlfMode mode = VlfMode::exact) const;
 
     // Builds every PSF not built yet (TBB, all cores), reporting progress in [0, 1].
     void build_all(const Progress& progress = {});

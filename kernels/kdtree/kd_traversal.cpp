@@ -11,6 +11,12 @@ namespace {
 
 constexpr int kStackSize = 64;
 
+// Plane and box distances carry rounding, as do the triangle test's t: a hit one ulp inside a cell
+// can be computed one ulp outside it. Cell decisions therefore keep a relative slack (about a
+// million times finer than any cell, so it costs nothing measurable): a child is skipped, or the
+// search ended, only when the distances differ by more than it.
+inline float slack(float t) { return std::fabs(t) * (1.0f / 1048576.0f); }
+
 struct StackEntry {
     std::uint32_t node;
     float tmin, tmax;
@@ -28,6 +34,8 @@ bool clip_to_box(const Ray& ray, const Float3& inv, const Box& box, float& tmin,
         float t0 = (box.lower[k] - ray.org[k]) * inv[k];
         float t1 = (box.upper[k] - ray.org[k]) * inv[k];
         if (t0 > t1) std::swap(t0, t1);
+        t0 -= slack(t0);
+        t1 += slack(t1);
         tmin = t0 > tmin ? t0 : tmin;
         tmax = t1 < tmax ? t1 : tmax;
     }
@@ -68,9 +76,9 @@ Hit traverse(const KdTree::Impl& tree, const Ray& ray, TraversalCounters* counte
                 stack[top++] = StackEntry{second, tmin, tmax};
                 index = first;
                 in_plane = true;
-            } else if (tplane > tmax || tplane < 0.0f) {
+            } else if (tplane > tmax + slack(tmax) || tplane < 0.0f) {
                 index = first;
-            } else if (tplane < tmin) {
+            } else if (tplane < tmin - slack(tmin)) {
                 index = second;
             } else {
                 stack[top++] = StackEntry{second, tplane, tmax};
@@ -108,13 +116,13 @@ Hit traverse(const KdTree::Impl& tree, const Ray& ray, TraversalCounters* counte
                 }
             }
         }
-        if (!kOcclusion && !in_plane && best.t <= tmax) return best;  // nothing nearer is left
+        if (!kOcclusion && !in_plane && best.t < tmax - slack(tmax)) return best;  // nothing nearer is left
         // Next cell from the stack, skipping cells that start beyond the closest hit. (The stack is
         // not sorted by tmin: a ray lying in a split plane pushes a cell with the current interval.)
         for (;;) {
             if (top == 0) return best;
             const StackEntry& e = stack[--top];
-            if (!kOcclusion && e.tmin > best.t) continue;
+            if (!kOcclusion && e.tmin > best.t + slack(best.t)) continue;
             index = e.node;
             tmin = e.tmin;
             tmax = e.tmax;

@@ -105,12 +105,20 @@ void Beam::merge(const Beam& o) {
     }
     for (int k = 0; k < 3; ++k)
         if (o.sign[k] != sign[k]) coherent = false;
-    coherent = coherent && o.coherent && o.main_axis == main_axis;
+    coherent = coherent && o.coherent;
     starts.extend(o.starts);
     if (coherent) {
+        // The other beam measures its lengths along its own main axis: convert them to ours with
+        // |dir_main / dir_other_main|, the absolute value of its slope range (one sign, non-zero).
+        Interval other_length = o.length;
+        if (o.main_axis != main_axis) {
+            const Interval s = o.slope[o.main_axis][main_axis];
+            const Interval ratio = s.lo > 0.0f ? s : Interval{-s.hi, -s.lo};
+            other_length = widen(o.length * ratio, 0.0f);
+        }
         for (int k = 0; k < 3; ++k)
             for (int j = 0; j < 3; ++j) slope[k][j] = hull(slope[k][j], o.slope[k][j]);
-        length = hull(length, o.length);
+        length = hull(length, other_length);
     }
     pad = std::max(pad, o.pad);
     rays += o.rays;

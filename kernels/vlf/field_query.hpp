@@ -9,7 +9,7 @@ namespace beamtrace::vlf {
 template <bool kOcclusion, bool kCount>
 Hit walk_field(const VisibilityField::Impl& f, const ParallelSubfield& psf, const CanonicalRay& cr,
                const WatertightRay& ray, VlfMode mode, VlfCounters* counters) {
-    const WalkContext ctx{&f.grid, f.triangles.data(), f.triangles.size(), f.kernels};
+    const WalkContext ctx{&f.grid, f.triangles.data(), f.triangles.size(), f.kernels, f.simd->scan_footprints};
     if (mode == VlfMode::fast) return TileWalk<kOcclusion, true, kCount>(psf, ctx, ray, counters).run(cr);
     return TileWalk<kOcclusion, false, kCount>(psf, ctx, ray, counters).run(cr);
 }

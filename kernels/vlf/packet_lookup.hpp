@@ -61,15 +61,7 @@ struct alignas(64) PacketLookup {
 
 using LookupPacketFn = void (*)(const LookupTables& tables, const Packet16& packet, PacketLookup& out);
 
-// The kernel of an instruction set; nullptr for Isa::scalar, whose packets run the single-ray
-// set-up lane by lane.
-LookupPacketFn lookup_packet_kernel(Isa isa);
-
-namespace lookup_sse42 { void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&); }
-namespace lookup_avx2 { void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&); }
-namespace lookup_avx512 { void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&); }
-
-// The tables of a field's direction set, frames, grid and box (the vectors keep the frames' arrays).
+// The tables of a field's direction set, frames, grid and box (the vector keeps the frames).
 struct LookupStorage {
     std::vector<double> frames;
     LookupTables tables;

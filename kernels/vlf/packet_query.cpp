@@ -3,7 +3,7 @@
 
 #include "vlf/direction_set_impl.hpp"
 #include "vlf/field_query.hpp"
-#include "vlf/packet_lookup.hpp"
+#include "vlf/packet_start.hpp"
 
 namespace beamtrace {
 namespace {
@@ -31,32 +31,57 @@ void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::Packet
     }
 }
 
-void lookup_packet(const VisibilityField::Impl& f, const Packet16& p, vlf::PacketLookup& out) {
-    if (f.lookup_kernel) f.lookup_kernel(f.lookup.tables, p, out);
+}  // namespace
+
+namespace vlf {
+
+void lookup_packet(const VisibilityField::Impl& f, const Packet16& p, PacketLookup& out) {
+    if (f.simd->lookup_packet) f.simd->lookup_packet(f.lookup.tables, p, out);
     else lookup_lanes(f, p, out);
 }
 
-}  // namespace
+void start_packet(const VisibilityField::Impl& f, const Packet16& p, PacketStart& s) {
+    lookup_packet(f, p, s.lookup);
+    const vlf::PacketLookup& l = s.lookup;
+    const auto n = std::uint32_t(f.grid.n);
+    std::uint32_t tile[16];
+    for (std::uint32_t m = l.valid; m; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        s.psf[i] = &f.psf(l.psf[i]);
+        tile[i] = std::uint32_t(l.row[i]) * n + std::uint32_t(l.column[i]);
+        s.psf[i]->prefetch_tile(tile[i]);
+    }
+    TileRef ref[16];
+    for (std::uint32_t m = l.valid; m; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        ref[i] = s.psf[i]->tile(tile[i]);
+        if (ref[i].leaves) s.psf[i]->prefetch_block(ref[i], 0, 64);
+    }
+}
+
+}  // namespace vlf
 
 void VisibilityField::intersect(const Packet16& packet, PacketHits16& hits, VlfMode mode) const {
     const Impl& f = *impl_;
-    vlf::PacketLookup lookup;
-    lookup_packet(f, packet, lookup);
+    vlf::PacketStart s;
+    vlf::start_packet(f, packet, s);
     for (int i = 0; i < 16; ++i) hits.set_hit(i, Hit{});
-    for (std::uint32_t m = lookup.valid; m; m &= m - 1) {
+    for (std::uint32_t m = s.lookup.valid; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
-        hits.set_hit(i, vlf::walk_field<false, false>(f, f.psf(lookup.psf[i]), lookup.ray(i), lookup.watertight(i, packet), mode, nullptr));
+        hits.set_hit(i, vlf::walk_field<false, false>(f, *s.psf[i], s.lookup.ray(i), s.lookup.watertight(i, packet),
+                                                     mode, nullptr));
     }
 }
 
 std::uint32_t VisibilityField::occluded(const Packet16& packet, VlfMode mode) const {
     const Impl& f = *impl_;
-    vlf::PacketLookup lookup;
-    lookup_packet(f, packet, lookup);
+    vlf::PacketStart s;
+    vlf::start_packet(f, packet, s);
     std::uint32_t bits = 0;
-    for (std::uint32_t m = lookup.valid; m; m &= m - 1) {
+    for (std::uint32_t m = s.lookup.valid; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
-        if (vlf::walk_field<true, false>(f, f.psf(lookup.psf[i]), lookup.ray(i), lookup.watertight(i, packet), mode, nullptr).hit())
+        if (vlf::walk_field<true, false>(f, *s.psf[i], s.lookup.ray(i), s.lookup.watertight(i, packet), mode, nullptr)
+                .hit())
             bits |= 1u << i;
     }
     return bits;

@@ -6,6 +6,8 @@
 // new block fits the old one's room, else at the end of the pool.
 #include <algorithm>
 #include <cstdint>
+
+#include <immintrin.h>
 #include <span>
 #include <vector>
 
@@ -37,6 +39,13 @@ public:
     const CanonicalFrame& frame() const { return frame_; }
     TileRef tile(std::uint32_t index) const { return tiles_[index]; }
     TileBspView view(TileRef ref) const { return TileBspView{pool_.data() + ref.offset, ref.leaves}; }
+    // Asks the cache for a tile's entry, or for words [first, first + count) of its block.
+    void prefetch_tile(std::uint32_t index) const { _mm_prefetch(reinterpret_cast<const char*>(&tiles_[index]), _MM_HINT_T0); }
+    void prefetch_block(TileRef ref, std::uint32_t first, std::uint32_t count) const {
+        const char* a = reinterpret_cast<const char*>(pool_.data() + ref.offset + first);
+        const char* b = reinterpret_cast<const char*>(pool_.data() + ref.offset + first + (count ? count : 1));
+        for (const char* p = a; p < b && p < a + 256; p += 64) _mm_prefetch(p, _MM_HINT_T0);
+    }
 
     // Dynamic updates. remove: the triangles `ids` (already marked absent in input.present, still
     // with the corners they were inserted with) leave every tile they were in. insert: the

@@ -26,8 +26,8 @@ std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vecto
 // The node holding levels_[level], covering depths [lo, hi]. Its split is the median of the
 // centres of its items' depth ranges cut to [lo, hi], so it always falls inside the node and the
 // splits of the whole tree come out ascending when leaves are emitted left to right. A node
-// becomes a leaf at the depth limit, when it holds few triangles, or when the split would send
-// every triangle to both sides (all of them straddle it).
+// becomes a leaf at the chosen depth (unless dense: see kDenseLeaf), when it holds few
+// triangles, or when the split would send every triangle to both sides (all of them straddle it).
 void TileBspBuilder::node(int level, float lo, float hi) {
     const std::vector<DepthItem>& items = levels_[std::size_t(level)];
     auto leaf = [&] {
@@ -51,6 +51,8 @@ void TileBspBuilder::node(int level, float lo, float hi) {
         above += it.hi >= split;
     }
     if (below == items.size() && above == items.size()) return leaf();
+    // Beyond the chosen depth a split must pay: each side at most three quarters of the node.
+    if (level >= depth_ && 4 * std::max(below, above) > 3 * items.size()) return leaf();
 
     std::vector<DepthItem>& child = levels_[std::size_t(level) + 1];
     child.clear();

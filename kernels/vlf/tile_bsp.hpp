@@ -4,13 +4,16 @@
 // depth range overlaps. The leaves are stored flat, in depth order, in one block of 32-bit words:
 //
 //     [ split_0 .. split_{m-2} ]  [ end_0 .. end_{m-1} ]  [ ids ... ]  [ footprints ... ]
-//       float bits, ascending      leaf j's ids are ids[end_{j-1} .. end_j), end_{-1} = 0;
-//                                  footprints[k] belongs to ids[k] (see tile_footprint.hpp)
+//       float bits, ascending      leaf j holds entries end_{j-1} .. end_j - 1 (end_{-1} = 0);
+//                                  footprints[k] (tile_footprint.hpp) belongs to ids[k], and the
+//                                  footprints of a run of leaves are one run of memory for SIMD
 //
 // Leaf j covers depths [split_{j-1}, split_j] (the first and last are open-ended), so the first
 // and last leaf a ray segment needs follow from the depths of its two ends (section 4, Figure 3).
 #include <bit>
 #include <cstdint>
+
+#include <immintrin.h>
 #include <span>
 #include <vector>
 
@@ -36,10 +39,17 @@ struct TileBspView {
     std::uint32_t end(std::uint32_t j) const { return ends()[j]; }
     std::uint32_t entries() const { return end(leaves - 1); }
     const std::uint32_t* footprints() const { return ids() + entries(); }
-    // The leaf whose depth range holds z (the lower one when z is a split).
+    // The leaf whose depth range holds z (the lower one when z is a split): the number of splits
+    // below z, counted four at a time. z is compared as a float; where that rounding moves it
+    // across a split, the triangles near z (padded far more than a float's rounding) are in both.
     std::uint32_t leaf(double z) const {
-        std::uint32_t j = 0;
-        while (j + 1 < leaves && double(split(j)) < z) ++j;
+        const __m128 zf = _mm_set1_ps(float(z));
+        const std::uint32_t splits = leaves - 1;
+        std::uint32_t j = 0, k = 0;
+        for (; k + 4 <= splits; k += 4)
+            j += std::uint32_t(__builtin_popcount(unsigned(
+                _mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(reinterpret_cast<const float*>(block + k)), zf)))));
+        for (; k < splits; ++k) j += split(k) < float(z);
         return j;
     }
     std::uint32_t words() const { return (leaves - 1) + leaves + 2 * entries(); }

@@ -9,11 +9,10 @@
 //
 // Packing: a triangle's box (x0, y0, x1, y1) is the word with bytes (x0, y0, 255 - x1, 255 - y1),
 // low byte first; a ray's box is (x1, y1, 255 - x0, 255 - y0). The boxes overlap exactly when every
-// byte of the triangle's word is <= the same byte of the ray's word, four entries per SSE compare.
+// byte of the triangle's word is <= the same byte of the ray's word: max(f, ray) == ray, bytewise,
+// which SIMD checks for 4, 8 or 16 entries at once (footprint_scan_impl.hpp).
 #include <cmath>
 #include <cstdint>
-
-#include <immintrin.h>
 
 #include "vlf/canonical_frame.hpp"
 
@@ -27,10 +26,8 @@ struct FootprintLattice {
     static FootprintLattice of_tile(const TileGrid& g, int column, int row) {
         return FootprintLattice{g.edge(column) - g.pad, g.edge(row) - g.pad, 256.0 / (g.h + 2.0 * g.pad)};
     }
-    static std::uint32_t cell(double q) {
-        const double f = std::floor(q);
-        return f <= 0.0 ? 0u : (f >= 255.0 ? 255u : std::uint32_t(f));
-    }
+    // floor(q) clamped to [0, 255] (truncation is floor for the positive q that reach it).
+    static std::uint32_t cell(double q) { return q < 1.0 ? 0u : (q >= 255.0 ? 255u : std::uint32_t(q)); }
     // Footprint word of a triangle whose part inside the padded prism spans [xlo, xhi] x [ylo, yhi].
     std::uint32_t triangle(double xlo, double xhi, double ylo, double yhi, double pad) const {
         const std::uint32_t a = cell((xlo - pad - x0) * scale), b = cell((ylo - pad - y0) * scale);
@@ -50,13 +47,6 @@ inline bool footprints_meet(std::uint32_t triangle, std::uint32_t ray) {
     for (int shift = 0; shift < 32; shift += 8)
         if (((triangle >> shift) & 0xFFu) > ((ray >> shift) & 0xFFu)) return false;
     return true;
-}
-
-// Bit i set for each of the four footprints t[0..3] that meets the ray's.
-inline unsigned footprints_meet4(const std::uint32_t* t, __m128i ray) {
-    const __m128i f = _mm_loadu_si128(reinterpret_cast<const __m128i*>(t));
-    const __m128i below = _mm_cmpeq_epi8(_mm_max_epu8(f, ray), ray);  // byte <= ray's byte
-    return unsigned(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(below, _mm_set1_epi32(-1)))));
 }
 
 }  // namespace beamtrace::vlf

@@ -15,11 +15,13 @@
 
 #include "beamtrace/vlf.hpp"
 #include "common/triangle_kernels.hpp"
+#include "common/triangle_reference.hpp"
 #include "common/watertight_ray.hpp"
 #include "vlf/canonical_ray.hpp"
 #include "vlf/mailbox.hpp"
 #include "vlf/parallel_subfield.hpp"
 #include "vlf/tile_footprint.hpp"
+#include "vlf/vlf_kernels.hpp"
 
 namespace beamtrace::vlf {
 
@@ -28,6 +30,7 @@ struct WalkContext {
     const Triangle* triangles = nullptr;
     std::size_t triangle_count = 0;
     const TriangleKernels* kernels = nullptr;
+    ScanFootprintsFn scan = nullptr;
 };
 
 template <bool kOcclusion, bool kFast, bool kCount>
@@ -75,61 +78,70 @@ private:
         const TileRef ref = psf_.tile(std::uint32_t(r) * std::uint32_t(ctx_.grid->n) + std::uint32_t(c));
         if (ref.leaves == 0) return false;
         const TileBspView bsp = psf_.view(ref);
+        // The ray's footprint over its whole part in this tile serves every leaf.
         const FootprintLattice lattice = FootprintLattice::of_tile(*ctx_.grid, c, r);
-        if (ref.leaves == 1) return leaf(bsp, 0, cr, lattice, ta, tb) || (!kOcclusion && double(best_.t) <= tb);
+        const double xa = cr.ox + ta * cr.dx, xb = cr.ox + tb * cr.dx;
+        const double ya = cr.oy + ta * cr.dy, yb = cr.oy + tb * cr.dy;
+        const std::uint32_t ray = lattice.ray(xa < xb ? xa : xb, xa < xb ? xb : xa, ya < yb ? ya : yb, ya < yb ? yb : ya);
+        if (ref.leaves == 1) return leaves(bsp, 0, 0, ray) || (!kOcclusion && double(best_.t) <= tb);
         const std::uint32_t ja = bsp.leaf(cr.oz + ta * cr.dz), jb = bsp.leaf(cr.oz + tb * cr.dz);
+        // Any hit ends an occlusion walk, so the order of its tests does not matter: the leaves
+        // from ja to jb, stored one after the other, are scanned in one pass.
+        if constexpr (kOcclusion) return leaves(bsp, ja < jb ? ja : jb, ja < jb ? jb : ja, ray);
         const bool forward = cr.dz > 0.0;
         double start = ta;
         for (std::uint32_t j = ja;; forward ? ++j : --j) {
             double end = tb;
             if (j != jb) end = (double(bsp.split(forward ? j : j - 1)) - cr.oz) * cr.inv_dz;
             end = end < start ? start : (end > tb ? tb : end);
-            if (leaf(bsp, j, cr, lattice, start, end)) return true;
-            if (!kOcclusion && double(best_.t) <= end) return true;
+            leaves(bsp, j, j, ray);
+            if (double(best_.t) <= end) return true;
             if (j == jb) return false;
             start = end;
         }
     }
 
-    // Tests the untested triangles of leaf j whose footprint meets the ray's over [ta, tb]; true
-    // if the ray is occluded (occlusion walks only).
-    bool leaf(const TileBspView& bsp, std::uint32_t j, const CanonicalRay& cr, const FootprintLattice& lattice,
-              double ta, double tb) {
-        if constexpr (kCount) ++counters_->leaves;
-        const std::uint32_t first = bsp.begin(j), count = bsp.end(j) - first;
+    // Tests the untested triangles of leaves [j0, j1] whose footprint meets the ray's; true if the
+    // ray is occluded (occlusion walks only).
+    bool leaves(const TileBspView& bsp, std::uint32_t j0, std::uint32_t j1, std::uint32_t ray) {
+        if constexpr (kCount) counters_->leaves += j1 - j0 + 1;
+        const std::uint32_t first = bsp.begin(j0), count = bsp.end(j1) - first;
+        if constexpr (kCount) counters_->entries += count;
+        if (j1 > j0) distinct_ = false;  // a straddling triangle appears once per leaf
         const std::uint32_t* ids = bsp.ids() + first;
         const std::uint32_t* footprints = bsp.footprints() + first;
-        const double xa = cr.ox + ta * cr.dx, xb = cr.ox + tb * cr.dx;
-        const double ya = cr.oy + ta * cr.dy, yb = cr.oy + tb * cr.dy;
-        const std::uint32_t ray = lattice.ray(xa < xb ? xa : xb, xa < xb ? xb : xa, ya < yb ? ya : yb, ya < yb ? yb : ya);
-        const __m128i ray4 = _mm_set1_epi32(int(ray));
         const Triangle* batch[8];
         std::uint32_t batch_ids[8];
         int n = 0;
-        auto take = [&](std::uint32_t id) {
-            if (already_tested(id)) return false;
-            batch[n] = ctx_.triangles + id;
-            batch_ids[n] = id;
-            if (++n < 8) return false;
-            n = 0;
-            return test(batch, batch_ids, 8);
-        };
-        std::uint32_t k = 0;
-        for (; k + 4 <= count; k += 4)
-            for (unsigned m = footprints_meet4(footprints + k, ray4); m; m &= m - 1)
-                if (take(ids[k + unsigned(__builtin_ctz(m))])) return true;
-        for (; k < count; ++k)
-            if (footprints_meet(footprints[k], ray) && take(ids[k])) return true;
-        ++leaves_done_;
-        return n > 0 && test(batch, batch_ids, n);
+        std::uint32_t passing[kScanChunk + 16];
+        for (std::uint32_t k = 0; k < count; k += kScanChunk) {
+            const std::uint32_t chunk = count - k < kScanChunk ? count - k : kScanChunk;
+            const std::uint32_t found = ctx_.scan(footprints + k, chunk, ray, passing);
+            for (std::uint32_t p = 0; p < found; ++p) {
+                const std::uint32_t id = ids[k + passing[p]];
+                if (already_tested(id)) continue;
+                batch[n] = ctx_.triangles + id;
+                batch_ids[n] = id;
+                if (++n == 8) {
+                    if (test(batch, batch_ids, n)) return true;
+                    n = 0;
+                }
+            }
+        }
+        const bool occluded = n > 0 && test(batch, batch_ids, n);
+        distinct_ = false;  // later leaves may hold these triangles again
+        return occluded;
     }
 
-    // Mailboxing. The ids of one leaf are distinct, so while a ray is in its first leaf the ids it
-    // tests only go to a small list; the thread's mailbox takes over (with that list) when the ray
-    // reaches a second leaf or the list fills. Most rays never need it.
+    // Mailboxing: the triangles a ray has tested go to a short list (searched once the ray has
+    // left the run of distinct ids it started with: the first leaf); the thread's mailbox, one
+    // stamp per triangle, takes over with that list when it fills. Most rays never need it.
     bool already_tested(std::uint32_t id) {
         if (mailbox_ != nullptr) return mailbox_->seen(id);
-        if (leaves_done_ == 0 && listed_ < kListed) {
+        if (!distinct_)
+            for (std::uint32_t k = 0; k < listed_; ++k)
+                if (listed_ids_[k] == id) return true;
+        if (listed_ < kListed) {
             listed_ids_[listed_++] = id;
             return false;
         }
@@ -139,8 +151,23 @@ private:
         return mailbox_->seen(id);
     }
 
+    // The triangle kernels (bit-exact with the scalar reference, which a lone triangle uses: a
+    // SIMD call costs more than one scalar test).
     bool test(const Triangle* const* batch, const std::uint32_t* ids, int n) {
         if constexpr (kCount) counters_->triangle_tests += std::uint64_t(n);
+        if (n == 1) {
+            TriangleHit h;
+            if (!intersect_triangle(wray_, *batch[0], h)) return false;
+            if constexpr (kOcclusion) {
+                best_.triangle = ids[0];
+                return true;
+            }
+            if (h.t < best_.t) {
+                best_ = Hit{h.t, ids[0], h.u, h.v};
+                wray_.tfar = h.t;
+            }
+            return false;
+        }
         LaneHits lanes;
         if (n <= 4) ctx_.kernels->ray_x4(wray_, batch, n, lanes);
         else ctx_.kernels->ray_x8(wray_, batch, n, lanes);
@@ -167,8 +194,10 @@ private:
     VlfCounters* counters_;
     Hit best_;
     static constexpr std::uint32_t kListed = 32;
+    static constexpr std::uint32_t kScanChunk = 128;  // entries scanned per call of the kernel
     std::uint32_t listed_ids_[kListed];  // ids tested in the first leaf, before the mailbox
-    std::uint32_t listed_ = 0, leaves_done_ = 0;
+    std::uint32_t listed_ = 0;
+    bool distinct_ = true;  // every id met so far came from one leaf (no repeats possible)
     Mailbox* mailbox_ = nullptr;
 };
 

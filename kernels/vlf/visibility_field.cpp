@@ -72,7 +72,7 @@ VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o) : options(o
     t.inv_h = grid.inv_h;
     t.tiles = grid.n;
     t.box = world_box;
-    lookup_kernel = vlf::lookup_packet_kernel(kernels->isa);
+    simd = &vlf::vlf_kernels(kernels->isa);
 }
 
 const vlf::ParallelSubfield& VisibilityField::Impl::build(std::uint32_t i) const {

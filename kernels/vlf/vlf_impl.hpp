@@ -11,6 +11,7 @@
 #include "vlf/canonical_frame.hpp"
 #include "vlf/canonical_ray.hpp"
 #include "vlf/packet_lookup.hpp"
+#include "vlf/vlf_kernels.hpp"
 #include "vlf/parallel_subfield.hpp"
 
 namespace beamtrace {
@@ -26,8 +27,8 @@ struct VisibilityField::Impl {
     std::vector<std::uint8_t> present;   // inserted and of non-zero area: what PSFs hold
     std::vector<vlf::CanonicalFrame> frames;
     const TriangleKernels* kernels = nullptr;
-    vlf::LookupStorage lookup;                     // what the packet lookup reads
-    vlf::LookupPacketFn lookup_kernel = nullptr;   // nullptr: lane by lane
+    vlf::LookupStorage lookup;              // what the packet lookup reads
+    const vlf::VlfKernels* simd = nullptr;  // packet lookup and footprint scan
 
     // PSF i, once built, is psfs[i]; ready[i] publishes it to queries without a lock.
     mutable std::vector<std::unique_ptr<vlf::ParallelSubfield>> psfs;

@@ -18,6 +18,9 @@ struct SceneCase {
     bool file = false;
 };
 
+// Lets gtest (and ctest's list) name the case by its scene instead of dumping its bytes.
+void PrintTo(const SceneCase& c, std::ostream* os) { *os << c.spec; }
+
 std::string scene_path(const SceneCase& c) {
     return c.file ? (std::filesystem::path(BEAMTRACE_SCENES_DIR) / c.spec).string() : c.spec;
 }

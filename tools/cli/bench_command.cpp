@@ -22,6 +22,7 @@ struct BenchArgs {
     MlrtaSettings mlrta;
     VlfOptions vlf;
     std::string ao_dirs = "random";
+    std::string vlf_order = "auto";
     KdBuildRules kd;
 };
 
@@ -80,6 +81,7 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--vlf-tiles", args->vlf.tiles, "vlf: tiles per side n of each parallel subfield")->capture_default_str();
     cmd->add_option("--vlf-depth", args->vlf.depth, "vlf: tile-BSP depth d (0 = one leaf per tile)")->capture_default_str();
     cmd->add_flag("--vlf-eager", args->vlf.eager, "vlf: build every parallel subfield before tracing (default: on first use)");
+    cmd->add_option("--vlf-order", args->vlf_order, "vlf: trace rays as given (input), binned by PSF (psf), or binned for occlusion rays only (auto)")->capture_default_str();
     cmd->add_option("--ao-dirs", args->ao_dirs, "ao mode: random (stratified, cosine weighted) | psf (VLF-RT's --vlf-dirs directions)")->capture_default_str();
     cmd->add_option("--json", args->json, "write the results as JSON to this file");
     cmd->add_option("--markdown", args->markdown, "write the table as Markdown to this file");
@@ -114,6 +116,9 @@ std::function<void()> add_bench_command(CLI::App& app) {
         bo.engine_options.kd_rules = kd;
         args->vlf.validate();
         bo.engine_options.vlf = args->vlf;
+        bo.engine_options.vlf_order = args->vlf_order;
+        if (args->vlf_order != "input" && args->vlf_order != "psf" && args->vlf_order != "auto")
+            throw Error("--vlf-order must be input, psf or auto, not '" + args->vlf_order + "'");
         for (const std::string& e : bo.engines) workload::make_engine(e);  // reject unknown names before loading
         const workload::Workload w = workload::make_workload(wc);
         const workload::BenchResult result = workload::run_bench(w, bo);

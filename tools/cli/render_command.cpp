@@ -15,6 +15,8 @@ struct RenderArgs {
     SceneOptions scene;
     std::string engine = "kd1", shade = "normal", out;
     int ao_rays = 16;
+    std::string ao_dirs = "random";
+    int vlf_dirs = DirectionSet::kDefaultCount;
 };
 }  // namespace
 
@@ -25,6 +27,8 @@ std::function<void()> add_render_command(CLI::App& app) {
     cmd->add_option("--engine", args->engine, "engine that traces the picture")->capture_default_str();
     cmd->add_option("--shade", args->shade, "normal | depth | ao | complexity (mlrta: subtree size below each tile's entry point)")->capture_default_str();
     cmd->add_option("--ao-rays", args->ao_rays, "occlusion rays per pixel for --shade ao")->capture_default_str()->check(CLI::Range(1, 4096));
+    cmd->add_option("--ao-dirs", args->ao_dirs, "--shade ao: random | psf (VLF-RT's --vlf-dirs directions)")->capture_default_str();
+    cmd->add_option("--vlf-dirs", args->vlf_dirs, "vlf: beam directions l (2 m^2 + 1: 33, 129, 513, ...)")->capture_default_str();
     cmd->add_option("--out", args->out, "PNG file to write")->required();
     return [args] {
         workload::PictureOptions po;
@@ -33,6 +37,7 @@ std::function<void()> add_render_command(CLI::App& app) {
         po.height = args->scene.height;
         po.threads = args->scene.threads;
         po.ao_rays = args->ao_rays;
+        po.ao_directions = workload::AoDirections{workload::parse_ao_directions(args->ao_dirs), args->vlf_dirs};
         std::unique_ptr<workload::Engine> engine = workload::make_engine(args->engine);
         const scenes::SceneSource source = scenes::load_scene(args->scene.scene);
         const scenes::Camera camera =
@@ -40,6 +45,8 @@ std::function<void()> add_render_command(CLI::App& app) {
         {
             report::ProgressBar bar("build " + args->engine);
             workload::EngineOptions eo;
+            eo.vlf.directions = args->vlf_dirs;
+            eo.vlf.validate();
             if (bar.enabled()) eo.build_progress = [&bar](double f) { bar.update(f); };
             engine->build(source.scene, eo);
             bar.finish();

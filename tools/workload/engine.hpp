@@ -22,6 +22,9 @@ struct EngineOptions {
     KdBuildRules kd_rules;
     MlrtaSettings mlrta;
     VlfOptions vlf;  // vlf, vlf-fast: directions, tiles, depth, eager
+    // vlf, vlf-fast: trace rays in the given packets ("input"), binned by PSF ("psf"), or binned
+    // for occlusion rays only ("auto": secondary rays are incoherent, primary packets are not).
+    std::string vlf_order = "auto";
     // Progress of long builds in [0, 1]; may be empty.
     std::function<void(double)> build_progress;
 };

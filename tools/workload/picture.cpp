@@ -71,7 +71,7 @@ report::Image render_picture(const Engine& engine, const Scene& scene, const sce
             break;
         }
         case Shade::ao: {
-            const RaySet ao = make_ao_rays(scene, primary, hits, o.ao_rays);
+            const RaySet ao = make_ao_rays(scene, primary, hits, o.ao_rays, o.ao_directions);
             std::vector<std::uint8_t> occluded;
             engine.occluded(ao, occluded, o.threads);
             std::vector<int> open(std::size_t(o.width) * std::size_t(o.height), 0);

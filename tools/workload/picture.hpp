@@ -17,6 +17,7 @@ struct PictureOptions {
     int width = 1024, height = 1024;
     int threads = 1;
     int ao_rays = 16;
+    AoDirections ao_directions;  // random, or VLF-RT's PSF directions (the paper's Figure 8)
 };
 
 // Traces the primary rays (and, for ao, the AO rays from the engine's own hits) with `engine`,

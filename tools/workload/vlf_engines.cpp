@@ -3,6 +3,7 @@
 // 4x4 packet: SIMD lookups, then one walk per ray.
 #include <chrono>
 
+#include "beamtrace/error.hpp"
 #include "beamtrace/vlf.hpp"
 #include "workload/engine_registry.hpp"
 #include "workload/parallel.hpp"
@@ -16,6 +17,9 @@ public:
     std::string name() const override { return mode_ == VlfMode::exact ? "vlf" : "vlf-fast"; }
 
     void build(const Scene& scene, const EngineOptions& options) override {
+        if (options.vlf_order != "input" && options.vlf_order != "psf" && options.vlf_order != "auto")
+            throw Error("VLF ray order must be input, psf or auto, not '" + options.vlf_order + "'");
+        order_ = options.vlf_order;
         const auto start = std::chrono::steady_clock::now();
         field_ = std::make_unique<VisibilityField>(scene, options.vlf,
                                                    options.vlf.eager ? options.build_progress : VisibilityField::Progress{});
@@ -30,6 +34,18 @@ public:
 
     void intersect(const RaySet& rays, std::vector<Hit>& hits, int threads) const override {
         hits.assign(rays.slots(), Hit{});
+        if (order_ == "psf") {
+            std::vector<PacketHits16> out(rays.packets.size());
+            for_contiguous_parts(rays.packets.size(), threads, [&](std::size_t b, std::size_t e) {
+                field_->intersect(std::span(rays.packets).subspan(b, e - b), std::span(out).subspan(b, e - b), mode_);
+            });
+            for (std::size_t p = 0; p < out.size(); ++p)
+                for (std::uint32_t m = rays.packets[p].active; m; m &= m - 1) {
+                    const int i = __builtin_ctz(m);
+                    hits[p * 16 + std::size_t(i)] = out[p].hit(i);
+                }
+            return;
+        }
         for_packet_ranges(rays.packets.size(), threads, [&](std::size_t b, std::size_t e) {
             PacketHits16 out;
             for (std::size_t p = b; p < e; ++p) {
@@ -45,6 +61,15 @@ public:
 
     void occluded(const RaySet& rays, std::vector<std::uint8_t>& occluded, int threads) const override {
         occluded.assign(rays.slots(), 0);
+        if (order_ != "input") {
+            std::vector<std::uint32_t> bits(rays.packets.size(), 0);
+            for_contiguous_parts(rays.packets.size(), threads, [&](std::size_t b, std::size_t e) {
+                field_->occluded(std::span(rays.packets).subspan(b, e - b), std::span(bits).subspan(b, e - b), mode_);
+            });
+            for (std::size_t p = 0; p < bits.size(); ++p)
+                for (std::uint32_t m = bits[p]; m; m &= m - 1) occluded[p * 16 + std::size_t(__builtin_ctz(m))] = 1;
+            return;
+        }
         for_packet_ranges(rays.packets.size(), threads, [&](std::size_t b, std::size_t e) {
             for (std::size_t p = b; p < e; ++p) {
                 const std::uint32_t bits = field_->occluded(rays.packets[p], mode_);
@@ -79,7 +104,22 @@ public:
     }
 
 private:
+    // f(begin, end) on `threads` contiguous parts of the packets at once (each part binned by PSF
+    // on its own thread).
+    template <class F>
+    static void for_contiguous_parts(std::size_t packets, int threads, F&& f) {
+        const std::size_t parts = std::size_t(std::max(1, threads));
+        if (parts == 1) return f(std::size_t{0}, packets);
+        tbb::task_arena arena{int(parts)};
+        arena.execute([&] {
+            tbb::parallel_for(std::size_t{0}, parts, [&](std::size_t k) {
+                f(packets * k / parts, packets * (k + 1) / parts);
+            });
+        });
+    }
+
     VlfMode mode_;
+    std::string order_ = "auto";
     std::unique_ptr<VisibilityField> field_;
     double construct_seconds_ = 0.0, eager_psf_seconds_ = 0.0;
 };

@@ -1,8 +1,0 @@
-// The packet lookup for avx2 (this unit alone is compiled for it).
-#include "vlf/packet_lookup_impl.hpp"
-
-namespace beamtrace::vlf::lookup_avx2 {
-void lookup_packet(const LookupTables& t, const Packet16& p, PacketLookup& out) {
-    lookup_packet_simd<xsimd::avx2>(t, p, out);
-}
-}  // namespace beamtrace::vlf::lookup_avx2

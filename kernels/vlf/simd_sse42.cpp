@@ -1,0 +1,14 @@
+// The VLF-RT kernels for sse42 (this unit alone is compiled for it).
+#include "vlf/footprint_scan_impl.hpp"
+#include "vlf/packet_lookup_impl.hpp"
+#include "vlf/vlf_kernels.hpp"
+
+namespace beamtrace::vlf::simd_sse42 {
+void lookup_packet(const LookupTables& t, const Packet16& p, PacketLookup& out) {
+    lookup_packet_simd<xsimd::sse4_2>(t, p, out);
+}
+std::uint32_t scan_footprints(const std::uint32_t* footprints, std::uint32_t count, std::uint32_t ray,
+                              std::uint32_t* passing) {
+    return scan_sse42(footprints, count, ray, passing);
+}
+}  // namespace beamtrace::vlf::simd_sse42

@@ -1,0 +1,37 @@
+#pragma once
+// The SIMD kernels of VLF-RT, one set per instruction set, chosen at run time like the triangle
+// kernels: the packet lookup (packet_lookup.hpp) and the footprint scan (tile_footprint.hpp).
+#include <cstdint>
+
+#include "common/isa.hpp"
+#include "vlf/packet_lookup.hpp"
+
+namespace beamtrace::vlf {
+
+// Indices k < count of the entries whose footprint meets the ray's, ascending, into passing
+// (room for count + 16: SIMD stores may write past the last index); returns how many.
+using ScanFootprintsFn = std::uint32_t (*)(const std::uint32_t* footprints, std::uint32_t count, std::uint32_t ray,
+                                           std::uint32_t* passing);
+
+struct VlfKernels {
+    Isa isa;
+    LookupPacketFn lookup_packet;  // nullptr for Isa::scalar: packets run the single-ray set-up lane by lane
+    ScanFootprintsFn scan_footprints;
+};
+
+const VlfKernels& vlf_kernels(Isa isa);
+
+namespace simd_sse42 {
+void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&);
+std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t*);
+}  // namespace simd_sse42
+namespace simd_avx2 {
+void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&);
+std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t*);
+}  // namespace simd_avx2
+namespace simd_avx512 {
+void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&);
+std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t*);
+}  // namespace simd_avx512
+
+}  // namespace beamtrace::vlf

@@ -1,0 +1,147 @@
+// Entry-point search on trees built by KdTree::build, with random beams: every leaf holding triangles
+// that some ray segment of the beam really passes through (exact double-precision slab test) lies in
+// the entry point's subtree, a beam marked `misses` passes through no such leaf, and the paper's order
+// (bifurcation stack) and the top-down walk return the same node.
+#include <gtest/gtest.h>
+
+#include "hand_tree.hpp"
+#include "mlrta/entry_point_search.hpp"
+#include "mlrta/interval_traversal.hpp"
+
+using namespace beamtrace;
+using namespace beamtrace::mlrta;
+using namespace beamtrace::mlrta::test;
+
+namespace {
+
+struct Leaf {
+    std::uint32_t node;
+    Box box;
+};
+
+std::vector<Leaf> nonempty_leaves(const KdTree::Impl& kd) {
+    std::vector<Leaf> out;
+    std::vector<Leaf> stack{{0, kd.bounds}};
+    while (!stack.empty()) {
+        const Leaf n = stack.back();
+        stack.pop_back();
+        const KdNode& node = kd.nodes[n.node];
+        if (node.is_leaf()) {
+            if (node.triangle_count() > 0) out.push_back(n);
+            continue;
+        }
+        Leaf lower{n.node + 1, n.box}, upper{node.upper_child(), n.box};
+        lower.box.upper[node.axis()] = node.split;
+        upper.box.lower[node.axis()] = node.split;
+        stack.push_back(lower);
+        stack.push_back(upper);
+    }
+    return out;
+}
+
+// A random coherent bundle aimed into the scene box: one origin or several, narrow or wide, with
+// finite or infinite segments.
+std::vector<Ray> random_beam_rays(Rng& rng, const Box& b) {
+    const Float3 e = b.extent();
+    Float3 org, target;
+    for (int k = 0; k < 3; ++k) {
+        org[k] = b.lower[k] + e[k] * uniform(rng, -0.5f, 1.5f);
+        target[k] = b.lower[k] + e[k] * uniform(rng, 0.0f, 1.0f);
+    }
+    Float3 dir = target - org;
+    for (int k = 0; k < 3; ++k)
+        if (dir[k] == 0.0f) dir[k] = 1e-3f;
+    const float spread_org = rng() % 2 ? 0.0f : uniform(rng, 0.0f, 0.05f) * length(e);
+    std::vector<Ray> rays = bundle(rng, 2 + int(rng() % 30), org, spread_org, dir, uniform(rng, 0.0f, 0.2f));
+    if (rng() % 3 == 0)
+        for (Ray& r : rays) r.tfar = uniform(rng, 0.3f, 1.2f);
+    return rays;
+}
+
+MlrtaSettings settings(EpSearch order, FrustumTest test) {
+    MlrtaSettings s;
+    s.ep_search = order;
+    s.frustum_test = test;
+    return s;
+}
+
+}  // namespace
+
+TEST(MlrtaEntryPointProperty, EveryLeafARayPassesLiesBelowTheEntryPoint) {
+    const KdTree tree = KdTree::build(random_soup(3000, 61));
+    const std::vector<Leaf> leaves = nonempty_leaves(tree.impl());
+    Rng rng(62);
+    struct Case {
+        std::vector<Ray> rays;
+        std::vector<std::uint32_t> met;  // non-empty leaves some ray passes through
+    };
+    std::vector<Case> cases;
+    for (int n = 0; n < 1000; ++n) {
+        Case c{random_beam_rays(rng, tree.impl().bounds), {}};
+        if (n % 10 == 0)  // pointing away from the scene's centre: often nothing at all
+            for (Ray& r : c.rays) r.dir = r.dir * -1.0f;
+        for (const Leaf& leaf : leaves)
+            for (const Ray& r : c.rays)
+                if (segment_meets_box(r, leaf.box)) {
+                    c.met.push_back(leaf.node);
+                    break;
+                }
+        cases.push_back(std::move(c));
+    }
+    for (FrustumTest test : {FrustumTest::inverse, FrustumTest::direct})
+        for (EpSearch order : {EpSearch::bifurcation_stack, EpSearch::top_down}) {
+            const auto m = make_mlrta(tree, settings(order, test));
+            int below_root = 0, misses = 0;
+            for (std::size_t n = 0; n < cases.size(); ++n) {
+                const Beam beam = beam_of(cases[n].rays, &tree.impl().bounds);
+                ASSERT_TRUE(beam.coherent);
+                std::uint64_t steps = 0;
+                const EntryPoint ep = entry_point_search(*m, beam, root_entry(*m), steps);
+                const std::uint32_t first = ep.node, end = ep.node + m->subtree_nodes[ep.node];
+                ASSERT_EQ(ep.box.lower, node_box(tree.impl(), ep.node).lower);
+                ASSERT_EQ(ep.box.upper, node_box(tree.impl(), ep.node).upper);
+                below_root += ep.node != 0 && !ep.misses;
+                misses += ep.misses;
+                for (std::uint32_t leaf : cases[n].met) {
+                    ASSERT_FALSE(ep.misses) << "beam " << n << " passes through leaf " << leaf;
+                    ASSERT_TRUE(leaf >= first && leaf < end)
+                        << "beam " << n << ": leaf " << leaf << " outside the subtree of " << ep.node;
+                }
+            }
+            EXPECT_GT(below_root, 100) << "order " << int(order) << " direct " << int(test);
+            EXPECT_GT(misses, 20) << "order " << int(order) << " direct " << int(test);
+        }
+}
+
+TEST(MlrtaEntryPointProperty, BothOrdersFindTheSameEntryPoint) {
+    for (const Scene& scene : {random_soup(3000, 63), box_room(30, 64)}) {
+        const KdTree tree = KdTree::build(scene);
+        for (FrustumTest test : {FrustumTest::inverse, FrustumTest::direct}) {
+            const auto stack = make_mlrta(tree, settings(EpSearch::bifurcation_stack, test));
+            const auto top_down = make_mlrta(tree, settings(EpSearch::top_down, test));
+            Rng rng(65);
+            std::uint64_t steps_stack = 0, steps_top_down = 0;
+            for (int n = 0; n < 3000; ++n) {
+                const std::vector<Ray> rays = random_beam_rays(rng, tree.impl().bounds);
+                const Beam beam = beam_of(rays, &tree.impl().bounds);
+                // From the root; then the beam of the first half of the rays from the whole beam's
+                // entry point (a sub-tile searching from its parent's entry point).
+                const EntryPoint a = entry_point_search(*stack, beam, root_entry(*stack), steps_stack);
+                const EntryPoint b = entry_point_search(*top_down, beam, root_entry(*top_down), steps_top_down);
+                ASSERT_EQ(a.node, b.node) << "beam " << n;
+                ASSERT_EQ(a.misses, b.misses) << "beam " << n;
+                if (a.misses) continue;
+                Beam part;
+                part.set_scene_scale(tree.impl().bounds);
+                for (std::size_t i = 0; i < rays.size() / 2 + 1; ++i) part.add(rays[i]);
+                const EntryPoint c = entry_point_search(*stack, part, a, steps_stack);
+                const EntryPoint d = entry_point_search(*top_down, part, b, steps_top_down);
+                ASSERT_EQ(c.node, d.node) << "beam " << n << " part";
+                ASSERT_EQ(c.misses, d.misses) << "beam " << n << " part";
+                ASSERT_TRUE(c.misses || (c.node >= a.node && c.node < a.node + stack->subtree_nodes[a.node]))
+                    << "a part's entry point lies below its whole's";
+            }
+            EXPECT_LT(steps_top_down, steps_stack) << "direct " << int(test);
+        }
+    }
+}

@@ -1,0 +1,276 @@
+// Adaptive tile splitting (section 4.2) through the public Mlrta: grids of pinhole-camera packets
+// traced with every combination of split factor, minimum and initial tile size, frustum test,
+// entry-point search order, stuck-tile rule and thread count give, ray by ray, the kd-tree's closest
+// hits and occlusion answers; the tiles the observer sees partition the grid; settings are validated.
+#include <gtest/gtest.h>
+
+#include <mutex>
+
+#include "beamtrace/error.hpp"
+#include "hand_tree.hpp"
+#include "mlrta/covered_leaves.hpp"
+
+using namespace beamtrace;
+using namespace beamtrace::mlrta;
+using namespace beamtrace::mlrta::test;
+
+namespace {
+
+struct Image {
+    Camera camera;
+    std::vector<Packet16> packets;
+    PacketGrid grid;
+    std::vector<Hit> want;             // kd-tree closest hit per packet lane
+    std::vector<std::uint32_t> shade;  // kd-tree occlusion bits per packet, with finite segments
+    std::vector<Packet16> short_packets;
+
+    Image(const KdTree& tree, const Camera& cam) : camera(cam), packets(cam.packets()) {
+        grid = PacketGrid{packets.data(), cam.width / 4, cam.height / 4};
+        short_packets = packets;
+        for (std::size_t p = 0; p < packets.size(); ++p) {
+            for (int i = 0; i < 16; ++i) {
+                short_packets[p].tfar[i] = 0.5f + float((p * 16 + std::size_t(i)) % 13) * 0.45f;
+                want.push_back(tree.intersect(packets[p].ray(i)));
+            }
+            std::uint32_t bits = 0;
+            for (int i = 0; i < 16; ++i) bits |= tree.occluded(short_packets[p].ray(i)) ? 1u << i : 0u;
+            shade.push_back(bits);
+        }
+    }
+};
+
+::testing::AssertionResult same_as_kd(const KdTree& tree, const Image& img, const std::vector<PacketHits16>& hits) {
+    for (std::size_t p = 0; p < img.packets.size(); ++p)
+        for (int i = 0; i < 16; ++i) {
+            const Hit& want = img.want[p * 16 + std::size_t(i)];
+            const Hit got = hits[p].hit(i);
+            if (want.triangle == got.triangle && want.t == got.t && want.u == got.u && want.v == got.v) continue;
+            const ::testing::AssertionResult r = same_hit(tree, img.packets[p].ray(i), got);
+            if (!r) return ::testing::AssertionFailure() << "packet " << p << " lane " << i << ": " << r.message();
+        }
+    return ::testing::AssertionSuccess();
+}
+
+// The tiles must partition the grid, never cross an initial tile, and report their entry point's
+// subtree size (0 for tiles whose beam misses everything); divergent tiles only at the minimum size.
+::testing::AssertionResult tiles_partition(const std::vector<TileInfo>& tiles, const PacketGrid& grid,
+                                           const MlrtaSettings& s, const std::vector<std::uint32_t>& subtree) {
+    std::vector<int> cover(std::size_t(grid.columns) * std::size_t(grid.rows), 0);
+    const int side = s.initial_tile / 4, min_side = s.min_tile / 4;
+    for (const TileInfo& t : tiles) {
+        if (t.x0 < 0 || t.y0 < 0 || t.x1 > grid.columns || t.y1 > grid.rows || t.x0 >= t.x1 || t.y0 >= t.y1)
+            return ::testing::AssertionFailure() << "tile out of the grid or empty";
+        if (t.x0 / side != (t.x1 - 1) / side || t.y0 / side != (t.y1 - 1) / side)
+            return ::testing::AssertionFailure() << "tile crosses an initial tile";
+        if (t.entry_node >= subtree.size()) return ::testing::AssertionFailure() << "entry node out of the tree";
+        if (t.subtree_nodes != 0 && t.subtree_nodes != subtree[t.entry_node])
+            return ::testing::AssertionFailure() << "subtree size of node " << t.entry_node;
+        if (t.divergent && (t.x1 - t.x0 > min_side || t.y1 - t.y0 > min_side))
+            return ::testing::AssertionFailure() << "divergent tile above the minimum size";
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) ++cover[std::size_t(y) * std::size_t(grid.columns) + std::size_t(x)];
+    }
+    for (std::size_t i = 0; i < cover.size(); ++i)
+        if (cover[i] != 1) return ::testing::AssertionFailure() << "packet " << i << " traced " << cover[i] << " times";
+    return ::testing::AssertionSuccess();
+}
+
+// Every tile bigger than the minimum size has a leaf entry point or sees nothing (the paper's rule,
+// without the stuck-tile shortcut).
+::testing::AssertionResult split_until_leaf(const std::vector<TileInfo>& tiles, const KdTree& tree,
+                                            const MlrtaSettings& s) {
+    const int min_side = s.min_tile / 4;
+    for (const TileInfo& t : tiles) {
+        if (t.x1 - t.x0 <= min_side && t.y1 - t.y0 <= min_side) continue;
+        if (t.subtree_nodes != 0 && !tree.impl().nodes[t.entry_node].is_leaf())
+            return ::testing::AssertionFailure() << "tile " << t.x0 << "," << t.y0 << " - " << t.x1 << "," << t.y1
+                                                 << " not split though its entry point " << t.entry_node << " is inner";
+    }
+    return ::testing::AssertionSuccess();
+}
+
+// Runs every setting; counts in covered_entries the tiles (over all runs) whose entry point is a
+// covered flat leaf.
+void run_every_setting(const KdTree& tree, const Image& img, int& covered_entries) {
+    const std::vector<std::uint32_t> subtree = subtree_sizes(tree.impl());
+    const std::vector<std::uint8_t> covered = covered_flat_leaves(tree.impl());
+    int runs = 0;
+    covered_entries = 0;
+    for (int sf : {4, 16})
+        for (int its : {16, 32, 64, 128})
+            for (int mts : {4, 8, 16, 32}) {
+                if (mts > its) continue;
+                for (FrustumTest ft : {FrustumTest::inverse, FrustumTest::direct})
+                    for (EpSearch order : {EpSearch::bifurcation_stack, EpSearch::top_down})
+                        for (bool stuck : {false, true})
+                            for (int threads : {1, 2}) {
+                                MlrtaSettings s;
+                                s.split_factor = sf;
+                                s.initial_tile = its;
+                                s.min_tile = mts;
+                                s.frustum_test = ft;
+                                s.ep_search = order;
+                                s.stop_when_stuck = stuck;
+                                s.triangle_culling = (threads == 2) != stuck;  // mixed in, not a full product
+                                const Mlrta mlrta(tree, s);
+                                std::vector<PacketHits16> hits(img.packets.size());
+                                std::vector<TileInfo> tiles;
+                                std::mutex lock;
+                                const TileObserver observe = [&](const TileInfo& t) {
+                                    const std::lock_guard<std::mutex> guard(lock);
+                                    tiles.push_back(t);
+                                };
+                                MlrtaCounters counters;
+                                mlrta.intersect(img.grid, hits.data(), threads, &counters, observe);
+                                const std::string where = "SF " + std::to_string(sf) + " ITS " + std::to_string(its) +
+                                                          " MTS " + std::to_string(mts) + " direct " +
+                                                          std::to_string(ft == FrustumTest::direct) + " order " +
+                                                          std::to_string(int(order)) + " stuck " +
+                                                          std::to_string(stuck) + " threads " + std::to_string(threads);
+                                ASSERT_TRUE(same_as_kd(tree, img, hits)) << where;
+                                ASSERT_TRUE(tiles_partition(tiles, img.grid, s, subtree)) << where;
+                                for (const TileInfo& t : tiles)
+                                    covered_entries += t.subtree_nodes != 0 && covered[t.entry_node];
+                                if (!stuck) {
+                                    ASSERT_TRUE(split_until_leaf(tiles, tree, s)) << where;
+                                }
+                                ASSERT_EQ(counters.tiles, tiles.size()) << where;
+                                ASSERT_EQ(counters.packets, img.packets.size()) << where;
+
+                                const PacketGrid short_grid{img.short_packets.data(), img.grid.columns, img.grid.rows};
+                                std::vector<std::uint32_t> occluded(img.packets.size(), 0xDEADBEEFu);
+                                mlrta.occluded(short_grid, occluded.data(), threads);
+                                for (std::size_t p = 0; p < occluded.size(); ++p)
+                                    for (int i = 0; i < 16; ++i) {
+                                        if (!(((occluded[p] ^ img.shade[p]) >> i) & 1u)) continue;
+                                        ASSERT_TRUE(
+                                            same_occlusion(tree, img.short_packets[p].ray(i), (occluded[p] >> i) & 1u))
+                                            << where << " packet " << p << " lane " << i;
+                                    }
+                                ++runs;
+                            }
+            }
+    EXPECT_EQ(runs, 15 * 2 * 2 * 2 * 2 * 2);
+}
+
+// A room of boxes on an integer grid (flat, covered leaves) and a soup of triangles.
+const KdTree& room() {
+    static const KdTree tree = KdTree::build(box_room(30, 51));
+    return tree;
+}
+
+}  // namespace
+
+TEST(MlrtaTileSplitter, CameraInsideARoomEqualsKdTreeForEverySetting) {
+    // 100 x 76 pixels: 25 x 19 packets, not a multiple of any tile size.
+    const Image img(room(),
+                    {{1.3f, 0.6f, 2.7f}, {0.3f, 1.0f, -0.35f}, {0.01f, -0.003f, 0}, {0, 0.0035f, 0.01f}, 100, 76});
+    int covered_entries = 0;
+    run_every_setting(room(), img, covered_entries);
+    EXPECT_GT(covered_entries, 0) << "tiles looking at a wall stop at its flat, covered leaf (termination (4))";
+}
+
+TEST(MlrtaTileSplitter, CameraOutsideASoupEqualsKdTreeForEverySetting) {
+    static const KdTree soup = KdTree::build(random_soup(4000, 52));
+    // Looking along -z at the soup: the view centre changes sign in x and y (divergent tiles), and
+    // rays around the soup hit nothing (entry points that miss).
+    int covered_entries = 0;
+    run_every_setting(soup, Image(soup, {{0.5f, 0.5f, 3.0f}, {0, 0, -1.0f}, {0.0075f, 0, 0}, {0, 0.0075f, 0}, 96, 80}),
+                      covered_entries);
+}
+
+TEST(MlrtaTileSplitter, ZeroComponentsAndInactiveRaysEqualKdTree) {
+    const KdTree& tree = room();
+    Image img(tree, {{4.5f, 0.5f, 1.5f}, {0.0f, 1.0f, 0.0f}, {0.01f, 0, 0}, {0, 0, 0.01f}, 64, 64});
+    // A row and a column of pixels with exact +-0 components; some packets partly or wholly inactive.
+    for (std::size_t p = 0; p < img.packets.size(); ++p) {
+        Packet16& packet = img.packets[p];
+        for (int i = 0; i < 16; ++i) {
+            if (i % 4 == 1) packet.dir_x[i] = p % 2 ? 0.0f : -0.0f;
+            if (i / 4 == 2) packet.dir_z[i] = p % 3 ? -0.0f : 0.0f;
+            img.want[p * 16 + std::size_t(i)] = tree.intersect(packet.ray(i));
+        }
+        if (p % 5 == 0) packet.active = 0x0F0Fu;
+        if (p % 11 == 0) packet.active = 0;
+        for (int i = 0; i < 16; ++i)
+            if (!((packet.active >> i) & 1u)) img.want[p * 16 + std::size_t(i)] = Hit{};
+    }
+    for (int threads : {1, 2}) {
+        const Mlrta mlrta(tree, MlrtaSettings{});
+        std::vector<PacketHits16> hits(img.packets.size());
+        MlrtaCounters counters;
+        mlrta.intersect(img.grid, hits.data(), threads, &counters);
+        EXPECT_TRUE(same_as_kd(tree, img, hits)) << "threads " << threads;
+        EXPECT_GT(counters.single_rays, 0u);
+    }
+}
+
+// A camera looking along a diagonal: every ray has the same direction signs, but the dominant axis
+// changes between packets 9 and 10 of each row (x - y = 0.01 * (sx - 5.5)). No tile diverges in sign,
+// so none may be counted, reported or treated as divergent (divergent tiles get no entry point).
+TEST(MlrtaTileSplitter, DivergentOnlyWhenSignsDiffer) {
+    const KdTree& tree = room();
+    const Camera cam{
+        {0.5f, 0.5f, 3.5f}, {1.0f, 1.055f, -0.3f}, {0.005f, -0.005f, 0}, {-0.0012f, -0.0012f, 0.008f}, 64, 64};
+    Image img(tree, cam);
+    for (const Packet16& p : img.packets)
+        for (int i = 0; i < 16; ++i) ASSERT_TRUE(p.dir_x[i] > 0 && p.dir_y[i] > 0 && p.dir_z[i] < 0);
+    MlrtaSettings small_tiles;
+    small_tiles.initial_tile = 64;
+    small_tiles.min_tile = 16;
+    for (const MlrtaSettings& s : {MlrtaSettings{}, small_tiles}) {
+        const Mlrta mlrta(tree, s);
+        std::vector<PacketHits16> hits(img.packets.size());
+        std::vector<TileInfo> tiles;
+        MlrtaCounters counters;
+        mlrta.intersect(img.grid, hits.data(), 1, &counters, [&](const TileInfo& t) { tiles.push_back(t); });
+        ASSERT_TRUE(same_as_kd(tree, img, hits));
+        EXPECT_EQ(counters.divergent_tiles, 0u) << "ITS " << s.initial_tile << " MTS " << s.min_tile;
+        int divergent = 0;
+        for (const TileInfo& t : tiles) divergent += t.divergent;
+        EXPECT_EQ(divergent, 0) << "of " << tiles.size() << " tiles, ITS " << s.initial_tile << " MTS " << s.min_tile;
+    }
+}
+
+TEST(MlrtaTileSplitter, SettingsValidationNamesTheSetting) {
+    EXPECT_NO_THROW(MlrtaSettings{}.validate());
+    auto message = [](const MlrtaSettings& s) -> std::string {
+        try {
+            s.validate();
+        } catch (const Error& e) {
+            return e.what();
+        }
+        return "no error";
+    };
+    for (int bad : {0, 2, 6, 130, 8192}) {
+        MlrtaSettings s;
+        s.initial_tile = bad;
+        s.min_tile = 4;
+        EXPECT_NE(message(s).find("initial_tile"), std::string::npos) << bad << ": " << message(s);
+    }
+    for (int bad : {0, 2, 6, 256}) {
+        MlrtaSettings s;
+        s.min_tile = bad;
+        EXPECT_NE(message(s).find("min_tile"), std::string::npos) << bad << ": " << message(s);
+    }
+    for (int bad : {0, 2, 8, 64}) {
+        MlrtaSettings s;
+        s.split_factor = bad;
+        EXPECT_NE(message(s).find("split_factor"), std::string::npos) << bad << ": " << message(s);
+    }
+    MlrtaSettings bad;
+    bad.split_factor = 9;
+    EXPECT_THROW(Mlrta(room(), bad), Error);
+
+    const Mlrta mlrta(room());
+    std::vector<Packet16> packets(4);
+    std::vector<PacketHits16> hits(4);
+    try {
+        mlrta.intersect(PacketGrid{packets.data(), 2, 2}, hits.data(), 0);
+        ADD_FAILURE() << "threads = 0 accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("threads"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(mlrta.intersect(PacketGrid{packets.data(), -1, 2}, hits.data()), Error);
+    EXPECT_THROW(mlrta.intersect(PacketGrid{nullptr, 2, 2}, hits.data()), Error);
+}

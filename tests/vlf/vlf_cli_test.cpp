@@ -1,0 +1,106 @@
+// The beamtrace command with the VLF-RT engines: vlf and vlf-fast in bench (their options, the
+// JSON stats), --ao-dirs psf for every engine, bad settings rejected in one line, the AO picture.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CommandResult {
+    int exit_code;
+    std::string output;  // stdout and stderr
+};
+
+CommandResult run(const std::string& args) {
+    const std::string cmd = std::string(BEAMTRACE_CLI) + " " + args + " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    if (!pipe) return {-1, "popen failed"};
+    std::string out;
+    std::array<char, 4096> buf;
+    while (std::fgets(buf.data(), int(buf.size()), pipe)) out += buf.data();
+    const int status = pclose(pipe);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+fs::path temp_dir() {
+    const fs::path dir = fs::temp_directory_path() / ("beamtrace_vlf_cli_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    return dir;
+}
+
+nlohmann::json read_json(const fs::path& p) {
+    std::ifstream in(p);
+    return nlohmann::json::parse(in);
+}
+
+}  // namespace
+
+TEST(VlfCli, BenchRunsBothEnginesWithTheirOptionsAndStats) {
+    const fs::path json = temp_dir() / "primary.json";
+    const CommandResult r = run("bench --scene tetra:3 --mode primary --engines embree1,vlf,vlf-fast --width 64 "
+                                "--height 64 --vlf-dirs 33 --vlf-tiles 64 --vlf-depth 2 --repeats 1 --json " +
+                                json.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json j = read_json(json);
+    for (const char* name : {"vlf", "vlf-fast"}) {
+        const nlohmann::json& e = j["engines"][name];
+        EXPECT_GT(e["mrays_per_s"].get<double>(), 0.0) << name;
+        const nlohmann::json& s = e["stats"];
+        for (const char* field : {"psfs_built", "tile_entries", "memory_bytes", "build_seconds", "mean_tiles_per_ray",
+                                  "mean_triangle_tests_per_ray"})
+            EXPECT_TRUE(s.contains(field)) << name << " " << field;
+        EXPECT_EQ(s["directions"], 33);
+        EXPECT_EQ(s["tiles"], 64);
+        EXPECT_EQ(s["depth"], 2);
+        EXPECT_GT(s["psfs_built"].get<int>(), 0);
+        EXPECT_LE(s["psfs_built"].get<int>(), 33);
+        EXPECT_GT(e["build_seconds"].get<double>(), 0.0);
+    }
+    EXPECT_EQ(j["engines"]["vlf"]["oracle"]["mismatch"], 0);
+    EXPECT_EQ(j["engines"]["vlf"]["stats"]["mode"], "exact");
+    EXPECT_EQ(j["engines"]["vlf-fast"]["stats"]["mode"], "fast");
+}
+
+TEST(VlfCli, AoAlongPsfDirectionsForEveryEngine) {
+    const fs::path json = temp_dir() / "ao.json";
+    const CommandResult r = run("bench --scene tetra:3 --mode ao --ao-dirs psf --ao-rays 16 --vlf-dirs 33 --engines "
+                                "embree1,embree16,kd1,vlf --width 48 --height 48 --repeats 1 --json " + json.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json j = read_json(json);
+    const auto hits = j["engines"]["embree1"]["hits"].get<std::uint64_t>();
+    for (const char* name : {"embree16", "kd1", "vlf"}) {
+        EXPECT_EQ(j["engines"][name]["oracle"]["mismatch"], 0) << name;
+        EXPECT_EQ(j["engines"][name]["hits"].get<std::uint64_t>(), hits) << name;
+    }
+    // Each PSF-aligned AO ray stays in one tile.
+    EXPECT_LT(j["engines"]["vlf"]["stats"]["mean_tiles_per_ray"].get<double>(), 1.01);
+}
+
+TEST(VlfCli, BadSettingsAreOneLineAndExitTwo) {
+    for (const char* args : {"--vlf-dirs 100", "--vlf-tiles 0", "--vlf-depth 40", "--mode ao --ao-dirs sphere"}) {
+        const CommandResult r = run(std::string("bench --scene tetra:2 --engines vlf --width 8 --height 8 ") + args);
+        EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
+        EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
+    }
+    const CommandResult r = run("bench --scene tetra:2 --engines vlf --width 8 --height 8 --vlf-dirs 100");
+    EXPECT_NE(r.output.find("513"), std::string::npos) << r.output;
+}
+
+TEST(VlfCli, RendersAnAmbientOcclusionPicture) {
+    const fs::path png = temp_dir() / "ao.png";
+    const CommandResult r = run("render --scene tetra:3 --engine vlf --shade ao --ao-dirs psf --vlf-dirs 33 --width 32 "
+                                "--height 32 --out " + png.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_TRUE(fs::exists(png));
+    EXPECT_GT(fs::file_size(png), 100u);
+}

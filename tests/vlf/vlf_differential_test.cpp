@@ -1,0 +1,169 @@
+// vlf (mode exact) against the Embree oracle: every procedural scene and the shared meshes, from
+// outside and inside cameras, a camera grazing along the floor, a camera on the box's centre
+// planes, random rays; primary, shadow, ao with random and with PSF directions. Zero `mismatch`.
+// vlf-fast is measured on the same rays: its disagreement rate is recorded, and it may only miss
+// hits, never report one Embree does not have (up to grazing).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "oracle/comparison.hpp"
+#include "workload/bench_run.hpp"
+
+using namespace beamtrace;
+using namespace beamtrace::workload;
+
+namespace {
+
+struct SceneCase {
+    std::string spec;
+    bool file = false;
+    int directions = 129;  // fewer for the million-triangle room, to keep the default run short
+};
+
+std::string scene_path(const SceneCase& c) {
+    return c.file ? (std::filesystem::path(BEAMTRACE_SCENES_DIR) / c.spec).string() : c.spec;
+}
+
+std::vector<std::pair<std::string, scenes::Camera>> cameras_for(const scenes::SceneSource& s) {
+    const Box& b = s.scene.bounds();
+    const Float3 c = b.center(), e = b.extent();
+    std::vector<std::pair<std::string, scenes::Camera>> cams;
+    cams.emplace_back("default", s.camera);
+    scenes::Camera inside;
+    inside.eye = c + Float3{0.01f * e.x, 0.013f * e.y, 0.017f * e.z};
+    inside.at = inside.eye + Float3{1.0f, -0.2f, 0.4f};
+    inside.fovy_degrees = 90.0f;
+    cams.emplace_back("inside", inside);
+    scenes::Camera grazing;
+    grazing.eye = Float3{b.lower.x + 0.05f * e.x, b.lower.y + 1e-4f * e.y, b.lower.z + 0.05f * e.z};
+    grazing.at = grazing.eye + Float3{e.x, 0.0f, e.z};
+    grazing.fovy_degrees = 40.0f;
+    cams.emplace_back("grazing", grazing);
+    scenes::Camera on_plane;
+    on_plane.eye = Float3{c.x, c.y, b.upper.z + e.z};
+    on_plane.at = c;
+    on_plane.fovy_degrees = 50.0f;
+    cams.emplace_back("on-plane", on_plane);
+    return cams;
+}
+
+void expect_no_mismatch(const oracle::Tally& t, const std::string& what) {
+    EXPECT_EQ(t.mismatch, 0u) << what << ": " << oracle::summary(t);
+    EXPECT_GT(t.total(), 0u) << what;
+    if (t.mismatch > 0 && !t.examples.empty()) {
+        const oracle::Example& ex = t.examples.front();
+        ADD_FAILURE() << what << " first mismatch: ray " << ex.ray_index << " org " << ex.ray.org.x << ","
+                      << ex.ray.org.y << "," << ex.ray.org.z << " dir " << ex.ray.dir.x << "," << ex.ray.dir.y << ","
+                      << ex.ray.dir.z << " ours " << ex.ours.triangle << "@" << ex.ours.t << " oracle "
+                      << ex.oracle.triangle << "@" << ex.oracle.t;
+    }
+}
+
+// vlf-fast on the workload: the rays where it differs from Embree; each difference must be a
+// missed hit (or a farther one), never an extra or nearer hit unless grazing.
+struct FastRecord {
+    std::uint64_t rays = 0, differ = 0;
+};
+
+void check_fast(const Engine& fast, const Workload& w, const std::string& what, FastRecord& record) {
+    const Scene& scene = w.source.scene;
+    if (w.mode == Mode::primary) {
+        std::vector<Hit> hits;
+        fast.intersect(w.rays, hits, 2);
+        for (std::size_t slot = 0; slot < w.rays.slots(); ++slot) {
+            if (!w.rays.active(slot)) continue;
+            ++record.rays;
+            const Hit& ours = hits[slot];
+            const Hit& ref = w.reference_hits[slot];
+            if (oracle::classify_hit(scene, w.rays.ray(slot), ours, ref) == oracle::Verdict::agree) continue;
+            ++record.differ;
+            if (ours.hit() && (!ref.hit() || ours.t < ref.t)) {
+                EXPECT_NE(oracle::classify_hit(scene, w.rays.ray(slot), ours, ref), oracle::Verdict::mismatch)
+                    << what << ": vlf-fast found a hit nearer than the closest, ray " << slot;
+            }
+        }
+        return;
+    }
+    std::vector<std::uint8_t> occluded;
+    fast.occluded(w.rays, occluded, 2);
+    for (std::size_t slot = 0; slot < w.rays.slots(); ++slot) {
+        if (!w.rays.active(slot)) continue;
+        ++record.rays;
+        if (occluded[slot] == w.reference_occluded[slot]) continue;
+        ++record.differ;
+        if (occluded[slot]) {
+            EXPECT_NE(oracle::classify_occlusion(scene, w.rays.ray(slot), true, false), oracle::Verdict::mismatch)
+                << what << ": vlf-fast reported an occlusion Embree does not see, ray " << slot;
+        }
+    }
+}
+
+void run_scene(const SceneCase& c) {
+    const std::string path = scene_path(c);
+    if (c.file && !std::filesystem::exists(path)) GTEST_SKIP() << "shared scene not found: " << path;
+    scenes::SceneSource source = scenes::load_scene(path);
+    EngineOptions options;
+    options.vlf.directions = c.directions;
+    std::unique_ptr<Engine> exact = make_engine("vlf"), fast = make_engine("vlf-fast");
+    exact->build(source.scene, options);
+    fast->build(source.scene, options);
+    FastRecord record;
+
+    for (const auto& [camera_name, camera] : cameras_for(source)) {
+        for (int variant = 0; variant < 4; ++variant) {
+            WorkloadConfig config;
+            config.camera = camera;
+            config.mode = variant == 0 ? Mode::primary : variant == 1 ? Mode::shadow : Mode::ao;
+            config.width = config.height = config.mode == Mode::primary ? 96 : 48;
+            config.ao_rays = variant == 3 ? 16 : 4;
+            if (variant == 3) config.ao_directions = AoDirections{AoDirections::Source::psf, c.directions};
+            const Workload w = make_workload(source, config);
+            const std::string what = camera_name + " " + to_string(config.mode) + (variant == 3 ? " psf" : "");
+            expect_no_mismatch(check_against_oracle(*exact, w, 2), "vlf " + what);
+            check_fast(*fast, w, what, record);
+        }
+    }
+    WorkloadConfig config;
+    config.width = config.height = 4;
+    Workload w = make_workload(source, config);
+    for (Mode mode : {Mode::primary, Mode::shadow}) {
+        replace_rays(w, make_random_rays(source.scene.bounds(), 20000, 99, mode));
+        expect_no_mismatch(check_against_oracle(*exact, w, 2), std::string("vlf random ") + to_string(mode));
+        check_fast(*fast, w, std::string("random ") + to_string(mode), record);
+    }
+    const double rate = double(record.differ) / double(record.rays);
+    ::testing::Test::RecordProperty("vlf_fast_disagreement", std::to_string(rate));
+    std::printf("[ vlf-fast ] %s: differs from Embree on %llu of %llu rays (%.2f%%)\n", c.spec.c_str(),
+                static_cast<unsigned long long>(record.differ), static_cast<unsigned long long>(record.rays),
+                100.0 * rate);
+    EXPECT_GT(record.rays, 0u);
+}
+
+std::string case_name(const ::testing::TestParamInfo<SceneCase>& info) {
+    std::string name;
+    for (char ch : info.param.spec) name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+    return name + "_l" + std::to_string(info.param.directions);
+}
+
+}  // namespace
+
+class VlfDifferential : public ::testing::TestWithParam<SceneCase> {};
+TEST_P(VlfDifferential, ExactAgreesWithEmbreeAndFastIsMeasured) { run_scene(GetParam()); }
+
+#ifndef BEAMTRACE_VLF_LONG
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, VlfDifferential,
+    ::testing::Values(SceneCase{"random:20000"}, SceneCase{"random:2000"}, SceneCase{"tetra:5"},
+                      SceneCase{"sphereflake:2", false, 33}, SceneCase{"room", false, 9}, SceneCase{"room:7", false, 3},
+                      SceneCase{"bunny00.off", true}, SceneCase{"ChineseDragon-10kv.off", true}),
+    case_name);
+#else
+// The long run (ctest -L long): the default 513 directions everywhere, bigger scenes.
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, VlfDifferential,
+    ::testing::Values(SceneCase{"random:100000", false, 513}, SceneCase{"tetra:6", false, 513},
+                      SceneCase{"sphereflake:3", false, 513}, SceneCase{"room", false, 513},
+                      SceneCase{"bunny00.off", true, 513}, SceneCase{"ChineseDragon-10kv.off", true, 513}),
+    case_name);
+#endif
