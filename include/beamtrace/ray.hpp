@@ -20,7 +20,8 @@ struct Ray {
     float tfar = kInfinity;
 };
 
-// Closest hit. Barycentrics follow Embree: the hit point is (1-u-v)*v0 + u*v1 + v*v2.
+// Closest hit. Barycentrics: the hit point is (1-u-v)*v0 + u*v1 + v*v2 (the usual convention of
+// production ray tracers, so hits compare directly with the oracle's in tests).
 struct Hit {
     float t = kInfinity;
     std::uint32_t triangle = kNoHit;

@@ -11,7 +11,7 @@ struct TriangleHit {
 };
 
 // Hit if the ray meets the triangle at tnear <= t <= tfar (edges and corners included; triangles of
-// zero area never). u, v: Embree's barycentrics of v1 and v2.
+// zero area never). u, v: the barycentric weights of v1 and v2 (see Hit in beamtrace/ray.hpp).
 bool intersect_triangle(const WatertightRay& ray, const Triangle& tri, TriangleHit& hit);
 
 // The edge functions recomputed in double precision when one of them is exactly zero in float
