@@ -27,7 +27,8 @@ std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vecto
 // centres of its items' depth ranges cut to [lo, hi], so it always falls inside the node and the
 // splits of the whole tree come out ascending when leaves are emitted left to right. A node
 // becomes a leaf at the chosen depth (unless dense: see kDenseLeaf), when it holds few
-// triangles, or when the split would send every triangle to both sides (all of them straddle it).
+// triangles, or when more than half of its triangles straddle the split (they would be copied
+// into both children: the ray would save little and the memory would grow).
 void TileBspBuilder::node(int level, float lo, float hi) {
     const std::vector<DepthItem>& items = levels_[std::size_t(level)];
     auto leaf = [&] {
@@ -50,7 +51,8 @@ void TileBspBuilder::node(int level, float lo, float hi) {
         below += it.lo <= split;
         above += it.hi >= split;
     }
-    if (below == items.size() && above == items.size()) return leaf();
+    // A split that puts more than half of the node in both children copies more than it separates.
+    if (2 * (below + above) > 3 * items.size()) return leaf();
     // Beyond the chosen depth a split must pay: each side at most three quarters of the node.
     if (level >= depth_ && 4 * std::max(below, above) > 3 * items.size()) return leaf();
 

@@ -58,7 +58,7 @@ struct TileBspView {
 class TileBspBuilder {
 public:
     // Leaves holding at most this many triangles are not split further.
-    static constexpr std::size_t kLeafTriangles = 8;
+    static constexpr std::size_t kLeafTriangles = 16;
     // Beyond the chosen depth, leaves still holding more than kDenseLeaf triangles keep splitting,
     // down to kMaxDepth (a deviation from the paper's uniform depth, for dense tiles).
     static constexpr std::size_t kDenseLeaf = 64;

@@ -194,3 +194,34 @@ TEST(VisibilityField, BuildsOnlyWhatQueriesNeed) {
     EXPECT_EQ(eager.stats().psfs_built, 33u);
     EXPECT_EQ(eager.stats().tile_entries, st.tile_entries);
 }
+
+TEST(VisibilityField, BinnedStreamsAnswerAsPackets) {
+    const Scene s = test::random_soup(2000, 71);
+    const VisibilityField field(s, opts(33, 48, 4));
+    std::vector<Ray> rays = test::random_rays(s.bounds(), 4000, 72);
+    const std::vector<Ray> more = beam_rays(field.directions(), s.bounds(), 4000, 73);
+    rays.insert(rays.end(), more.begin(), more.end());
+    std::vector<Packet16> packets(rays.size() / 16);
+    for (std::size_t p = 0; p < packets.size(); ++p) {
+        for (int i = 0; i < 16; ++i) packets[p].set_ray(i, rays[p * 16 + std::size_t(i)]);
+        packets[p].active = p % 7 == 0 ? 0x0F0Fu : 0xFFFFu;
+    }
+    for (VlfMode mode : {VlfMode::exact, VlfMode::fast}) {
+        std::vector<PacketHits16> hits(packets.size());
+        std::vector<std::uint32_t> occluded(packets.size());
+        field.intersect(packets, hits, mode);
+        field.occluded(packets, occluded, mode);
+        std::size_t hit_count = 0;
+        for (std::size_t p = 0; p < packets.size(); ++p) {
+            PacketHits16 one;
+            field.intersect(packets[p], one, mode);
+            ASSERT_EQ(occluded[p], field.occluded(packets[p], mode)) << p;
+            for (int i = 0; i < 16; ++i) {
+                ASSERT_EQ(hits[p].triangle[i], one.triangle[i]) << p << " " << i;
+                ASSERT_EQ(std::bit_cast<std::uint32_t>(hits[p].t[i]), std::bit_cast<std::uint32_t>(one.t[i]));
+                hit_count += one.triangle[i] != kNoHit;
+            }
+        }
+        EXPECT_GT(hit_count, 1000u);
+    }
+}
