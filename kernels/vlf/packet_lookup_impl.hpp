@@ -61,14 +61,25 @@ void nearest_directions(const LookupTables& t, const Packet16& p, int base, std:
     iu = xsimd::min(xsimd::max(iu, izero), last);
     iv = xsimd::min(xsimd::max(iv, izero), last);
     const BI words = (iv * BI(t.table) + iu) * BI(t.pairs_per_cell);
+    // Coherent packets (primary rays) mostly fall in one table cell: its candidates are read once.
+    alignas(64) std::int32_t word[BI::size];
+    words.store_aligned(word);
+    bool one_cell = true;
+    for (std::size_t i = 1; i < BI::size; ++i) one_cell &= word[i] == word[0];
     const BI low(0xFFFF);
     BF best(0.0f);  // the index, as a float (exact below 2^24)
     BF best_dot(0.0f);
     for (int k = 0; k < t.pairs_per_cell; ++k) {
-        const BI pair = gather<Arch>(t.candidate_pairs, words + BI(k));
+        const BI pair = one_cell ? BI(t.candidate_pairs[word[0] + k]) : gather<Arch>(t.candidate_pairs, words + BI(k));
         for (int half_word = 0; half_word < 2; ++half_word) {
             const BI c = half_word == 0 ? (pair & low) : ((pair >> 16) & low);
-            const BF d = (x * gather<Arch>(t.dir_x, c) + y * gather<Arch>(t.dir_y, c)) + z * gather<Arch>(t.dir_z, c);
+            BF d;
+            if (one_cell) {
+                const std::uint32_t i = std::uint32_t(t.candidate_pairs[word[0] + k]) >> (16 * half_word) & 0xFFFFu;
+                d = (x * BF(t.dir_x[i]) + y * BF(t.dir_y[i])) + z * BF(t.dir_z[i]);
+            } else {
+                d = (x * gather<Arch>(t.dir_x, c) + y * gather<Arch>(t.dir_y, c)) + z * gather<Arch>(t.dir_z, c);
+            }
             if (k == 0 && half_word == 0) {
                 best = xsimd::to_float(c);
                 best_dot = d;
@@ -101,7 +112,7 @@ void nearest_directions(const LookupTables& t, const Packet16& p, int base, std:
 
 // Stage 2, double: rays [base, base + W) cut to the box, rotated into their PSF's frame, first tile.
 template <class Arch>
-void canonical_rays(const LookupTables& t, const double (*in)[16], const std::int64_t* psf, int base,
+void canonical_rays(const LookupTables& t, const double (*in)[16], const std::int64_t* psf, bool one_psf, int base,
                     PacketLookup& out, double* ok, double* cell_x, double* cell_y) {
     using BD = xsimd::batch<double, Arch>;
     using BL = xsimd::batch<std::int64_t, Arch>;
@@ -126,9 +137,13 @@ void canonical_rays(const LookupTables& t, const double (*in)[16], const std::in
     }
     good = good & (t0 <= t1);
     // Rotation: p' = M (p - centre), d' = M d with M's rows e1, e2, e3 of the lane's PSF.
-    const BL index = BL::load_aligned(psf + base);
     BD m[9];
-    for (int c = 0; c < 9; ++c) m[c] = gather<Arch>(t.frames + std::size_t(c) * std::size_t(t.count), index);
+    if (one_psf) {  // coherent packets (primary rays) mostly share one PSF: no gathers
+        for (int c = 0; c < 9; ++c) m[c] = BD(t.frames[std::size_t(c) * std::size_t(t.count) + std::size_t(psf[0])]);
+    } else {
+        const BL index = BL::load_aligned(psf + base);
+        for (int c = 0; c < 9; ++c) m[c] = gather<Arch>(t.frames + std::size_t(c) * std::size_t(t.count), index);
+    }
     const BD px = o[0] - BD(t.centre[0]), py = o[1] - BD(t.centre[1]), pz = o[2] - BD(t.centre[2]);
     BD co[3], cd[3];
     for (int r = 0; r < 3; ++r) {
@@ -160,14 +175,16 @@ void lookup_packet_simd(const LookupTables& t, const Packet16& p, PacketLookup& 
     for (int base = 0; base < 16; base += WF) nearest_directions<Arch>(t, p, base, psf, dir_ok, out);
     alignas(64) double in[8][16];
     alignas(64) std::int64_t psf64[16];
+    bool one_psf = true;
     for (int i = 0; i < 16; ++i) {
         in[0][i] = p.org_x[i]; in[1][i] = p.org_y[i]; in[2][i] = p.org_z[i];
         in[3][i] = p.dir_x[i]; in[4][i] = p.dir_y[i]; in[5][i] = p.dir_z[i];
         in[6][i] = p.tnear[i]; in[7][i] = p.tfar[i];
         psf64[i] = psf[i];
+        one_psf &= psf[i] == psf[0];
     }
     alignas(64) double ray_ok[16], cell_x[16], cell_y[16];
-    for (int base = 0; base < 16; base += WD) canonical_rays<Arch>(t, in, psf64, base, out, ray_ok, cell_x, cell_y);
+    for (int base = 0; base < 16; base += WD) canonical_rays<Arch>(t, in, psf64, one_psf, base, out, ray_ok, cell_x, cell_y);
     std::uint32_t valid = 0;
     for (int i = 0; i < 16; ++i) {
         out.psf[i] = std::uint32_t(psf[i]);

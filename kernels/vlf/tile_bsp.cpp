@@ -27,8 +27,10 @@ std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vecto
 // centres of its items' depth ranges cut to [lo, hi], so it always falls inside the node and the
 // splits of the whole tree come out ascending when leaves are emitted left to right. A node
 // becomes a leaf at the chosen depth (unless dense: see kDenseLeaf), when it holds few
-// triangles, or when more than half of its triangles straddle the split (they would be copied
-// into both children: the ray would save little and the memory would grow).
+// triangles, or, above the chosen depth, when more than half of its triangles straddle the split
+// (they would be copied into both children: rays would save little and memory would grow).
+// Below it, dense leaves keep splitting while each side gets at most 3/4 of the node: slabs of a
+// finely tessellated object hold mostly straddling triangles, yet each slab is smaller.
 void TileBspBuilder::node(int level, float lo, float hi) {
     const std::vector<DepthItem>& items = levels_[std::size_t(level)];
     auto leaf = [&] {
@@ -51,10 +53,12 @@ void TileBspBuilder::node(int level, float lo, float hi) {
         below += it.lo <= split;
         above += it.hi >= split;
     }
-    // A split that puts more than half of the node in both children copies more than it separates.
-    if (2 * (below + above) > 3 * items.size()) return leaf();
-    // Beyond the chosen depth a split must pay: each side at most three quarters of the node.
-    if (level >= depth_ && 4 * std::max(below, above) > 3 * items.size()) return leaf();
+    if (level < depth_) {
+        // A split that puts more than half of the node in both children copies more than it separates.
+        if (2 * (below + above) > 3 * items.size()) return leaf();
+    } else if (4 * std::max(below, above) > 3 * items.size()) {
+        return leaf();  // beyond the chosen depth (dense leaves) a split must pay: each side <= 3/4
+    }
 
     std::vector<DepthItem>& child = levels_[std::size_t(level) + 1];
     child.clear();

@@ -78,23 +78,27 @@ private:
         const TileRef ref = psf_.tile(std::uint32_t(r) * std::uint32_t(ctx_.grid->n) + std::uint32_t(c));
         if (ref.leaves == 0) return false;
         const TileBspView bsp = psf_.view(ref);
-        // The ray's footprint over its whole part in this tile serves every leaf.
         const FootprintLattice lattice = FootprintLattice::of_tile(*ctx_.grid, c, r);
-        const double xa = cr.ox + ta * cr.dx, xb = cr.ox + tb * cr.dx;
-        const double ya = cr.oy + ta * cr.dy, yb = cr.oy + tb * cr.dy;
-        const std::uint32_t ray = lattice.ray(xa < xb ? xa : xb, xa < xb ? xb : xa, ya < yb ? ya : yb, ya < yb ? yb : ya);
-        if (ref.leaves == 1) return leaves(bsp, 0, 0, ray) || (!kOcclusion && double(best_.t) <= tb);
+        // The ray's footprint over [t0, t1] of its segment.
+        auto footprint = [&](double t0, double t1) {
+            const double xa = cr.ox + t0 * cr.dx, xb = cr.ox + t1 * cr.dx;
+            const double ya = cr.oy + t0 * cr.dy, yb = cr.oy + t1 * cr.dy;
+            return lattice.ray(xa < xb ? xa : xb, xa < xb ? xb : xa, ya < yb ? ya : yb, ya < yb ? yb : ya);
+        };
+        if (ref.leaves == 1) return leaves(bsp, 0, 0, footprint(ta, tb)) || (!kOcclusion && double(best_.t) <= tb);
         const std::uint32_t ja = bsp.leaf(cr.oz + ta * cr.dz), jb = bsp.leaf(cr.oz + tb * cr.dz);
         // Any hit ends an occlusion walk, so the order of its tests does not matter: the leaves
         // from ja to jb, stored one after the other, are scanned in one pass.
-        if constexpr (kOcclusion) return leaves(bsp, ja < jb ? ja : jb, ja < jb ? jb : ja, ray);
+        if constexpr (kOcclusion) return leaves(bsp, ja < jb ? ja : jb, ja < jb ? jb : ja, footprint(ta, tb));
+        // Closest hit: leaf by leaf, each with the footprint of the ray's part in it (a long,
+        // slanted crossing of a dense tile covers much of the tile, its part in one leaf little).
         const bool forward = cr.dz > 0.0;
         double start = ta;
         for (std::uint32_t j = ja;; forward ? ++j : --j) {
             double end = tb;
             if (j != jb) end = (double(bsp.split(forward ? j : j - 1)) - cr.oz) * cr.inv_dz;
             end = end < start ? start : (end > tb ? tb : end);
-            leaves(bsp, j, j, ray);
+            leaves(bsp, j, j, footprint(start, end));
             if (double(best_.t) <= end) return true;
             if (j == jb) return false;
             start = end;
@@ -134,15 +138,18 @@ private:
     }
 
     // Mailboxing: the triangles a ray has tested go to a short list (searched once the ray has
-    // left the run of distinct ids it started with: the first leaf); the thread's mailbox, one
-    // stamp per triangle, takes over with that list when it fills. Most rays never need it.
+    // left the run of distinct ids it started with, the first leaf, and only when a 64-bit filter
+    // of the listed ids' low bits says the id may be there); the thread's mailbox, one stamp per
+    // triangle, takes over with that list when it fills. Most rays never need it.
     bool already_tested(std::uint32_t id) {
         if (mailbox_ != nullptr) return mailbox_->seen(id);
-        if (!distinct_)
+        const std::uint64_t bit = std::uint64_t(1) << (id & 63u);
+        if (!distinct_ && (listed_filter_ & bit))
             for (std::uint32_t k = 0; k < listed_; ++k)
                 if (listed_ids_[k] == id) return true;
         if (listed_ < kListed) {
             listed_ids_[listed_++] = id;
+            listed_filter_ |= bit;
             return false;
         }
         mailbox_ = &Mailbox::local();
@@ -197,6 +204,7 @@ private:
     static constexpr std::uint32_t kScanChunk = 128;  // entries scanned per call of the kernel
     std::uint32_t listed_ids_[kListed];  // ids tested in the first leaf, before the mailbox
     std::uint32_t listed_ = 0;
+    std::uint64_t listed_filter_ = 0;
     bool distinct_ = true;  // every id met so far came from one leaf (no repeats possible)
     Mailbox* mailbox_ = nullptr;
 };

@@ -31,7 +31,7 @@ std::uint64_t bits(T v) {
 }
 
 // Packets of awkward rays: random, along the axes (zero and -0 components), from far away,
-// starting on the box, NaN and zero directions, idle lanes.
+// starting on the box, NaN and zero directions, idle lanes; every fourth packet coherent.
 std::vector<Packet16> awkward_packets(const Box& box, std::mt19937& rng, int count) {
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     const Float3 c = box.center(), e = box.extent();
@@ -44,6 +44,11 @@ std::vector<Packet16> awkward_packets(const Box& box, std::mt19937& rng, int cou
             Ray r;
             r.org = c + Float3{u(rng) * e.x, u(rng) * e.y, u(rng) * e.z} * (p % 5 == 0 ? 8.0f : 0.8f);
             r.dir = Float3{u(rng), u(rng), u(rng)};
+            if (p % 4 == 1) {  // a coherent packet: one PSF for every lane (its frame is broadcast)
+                r.dir = Float3{0.3f, -0.2f, 0.9f} + Float3{u(rng), u(rng), u(rng)} * 1e-4f;
+                packet.set_ray(i, r);
+                continue;
+            }
             switch ((p + i) % 9) {
                 case 0: r.dir = Float3{0.0f, 0.0f, u(rng)}; break;
                 case 1: r.dir = Float3{-0.0f, u(rng), 0.0f}; break;
