@@ -1,40 +1,21 @@
 // The beamtrace command as a user runs it: exit codes, one-line errors, the JSON contract, pictures.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
 
+#include "support/command_line.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct CommandResult {
-    int exit_code;
-    std::string output;  // stdout and stderr
-};
+using beamtrace::test::CommandResult;
 
-CommandResult run(const std::string& args) {
-    const std::string cmd = std::string(BEAMTRACE_CLI) + " " + args + " 2>&1";
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return {-1, "popen failed"};
-    std::string out;
-    std::array<char, 4096> buf;
-    while (std::fgets(buf.data(), int(buf.size()), pipe)) out += buf.data();
-    const int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-fs::path temp_dir() {
-    const fs::path dir = fs::temp_directory_path() / ("beamtrace_cli_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return dir;
-}
+CommandResult run(const std::string& args) { return beamtrace::test::run_command(args); }
+fs::path temp_dir() { return beamtrace::test::temp_dir("cli_test"); }
 
 int lines(const std::string& s) {
     int n = 0;

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "oracle/comparison.hpp"
+#include "support/differential.hpp"
 #include "workload/bench_run.hpp"
 
 using namespace beamtrace;
@@ -22,44 +23,8 @@ struct SceneCase {
     bool fast = true;      // also measure vlf-fast (a second field: left out where memory is short)
 };
 
-std::string scene_path(const SceneCase& c) {
-    return c.file ? (std::filesystem::path(BEAMTRACE_SCENES_DIR) / c.spec).string() : c.spec;
-}
-
-std::vector<std::pair<std::string, scenes::Camera>> cameras_for(const scenes::SceneSource& s) {
-    const Box& b = s.scene.bounds();
-    const Float3 c = b.center(), e = b.extent();
-    std::vector<std::pair<std::string, scenes::Camera>> cams;
-    cams.emplace_back("default", s.camera);
-    scenes::Camera inside;
-    inside.eye = c + Float3{0.01f * e.x, 0.013f * e.y, 0.017f * e.z};
-    inside.at = inside.eye + Float3{1.0f, -0.2f, 0.4f};
-    inside.fovy_degrees = 90.0f;
-    cams.emplace_back("inside", inside);
-    scenes::Camera grazing;
-    grazing.eye = Float3{b.lower.x + 0.05f * e.x, b.lower.y + 1e-4f * e.y, b.lower.z + 0.05f * e.z};
-    grazing.at = grazing.eye + Float3{e.x, 0.0f, e.z};
-    grazing.fovy_degrees = 40.0f;
-    cams.emplace_back("grazing", grazing);
-    scenes::Camera on_plane;
-    on_plane.eye = Float3{c.x, c.y, b.upper.z + e.z};
-    on_plane.at = c;
-    on_plane.fovy_degrees = 50.0f;
-    cams.emplace_back("on-plane", on_plane);
-    return cams;
-}
-
-void expect_no_mismatch(const oracle::Tally& t, const std::string& what) {
-    EXPECT_EQ(t.mismatch, 0u) << what << ": " << oracle::summary(t);
-    EXPECT_GT(t.total(), 0u) << what;
-    if (t.mismatch > 0 && !t.examples.empty()) {
-        const oracle::Example& ex = t.examples.front();
-        ADD_FAILURE() << what << " first mismatch: ray " << ex.ray_index << " org " << ex.ray.org.x << ","
-                      << ex.ray.org.y << "," << ex.ray.org.z << " dir " << ex.ray.dir.x << "," << ex.ray.dir.y << ","
-                      << ex.ray.dir.z << " ours " << ex.ours.triangle << "@" << ex.ours.t << " oracle "
-                      << ex.oracle.triangle << "@" << ex.oracle.t;
-    }
-}
+// Lets gtest (and ctest's list) name the case by its scene instead of dumping its bytes.
+void PrintTo(const SceneCase& c, std::ostream* os) { *os << c.spec << " l=" << c.directions; }
 
 // vlf-fast on the workload: the rays where it differs from Embree; each difference must be a
 // missed hit (or a farther one), never an extra or nearer hit unless grazing.
@@ -101,7 +66,7 @@ void check_fast(const Engine& fast, const Workload& w, const std::string& what, 
 }
 
 void run_scene(const SceneCase& c) {
-    const std::string path = scene_path(c);
+    const std::string path = test::scene_path(c.spec, c.file);
     if (c.file && !std::filesystem::exists(path)) GTEST_SKIP() << "shared scene not found: " << path;
     scenes::SceneSource source = scenes::load_scene(path);
     EngineOptions options;
@@ -111,7 +76,7 @@ void run_scene(const SceneCase& c) {
     if (c.fast) fast->build(source.scene, options);
     FastRecord record;
 
-    for (const auto& [camera_name, camera] : cameras_for(source)) {
+    for (const auto& [camera_name, camera] : test::cameras_for(source)) {
         for (int variant = 0; variant < 4; ++variant) {
             WorkloadConfig config;
             config.camera = camera;
@@ -121,7 +86,7 @@ void run_scene(const SceneCase& c) {
             if (variant == 3) config.ao_directions = AoDirections{AoDirections::Source::psf, c.directions};
             const Workload w = make_workload(source, config);
             const std::string what = camera_name + " " + to_string(config.mode) + (variant == 3 ? " psf" : "");
-            expect_no_mismatch(check_against_oracle(*exact, w, 2), "vlf " + what);
+            test::expect_no_mismatch(check_against_oracle(*exact, w, 2), "vlf " + what);
             if (c.fast) check_fast(*fast, w, what, record);
         }
     }
@@ -130,7 +95,7 @@ void run_scene(const SceneCase& c) {
     Workload w = make_workload(source, config);
     for (Mode mode : {Mode::primary, Mode::shadow}) {
         replace_rays(w, make_random_rays(source.scene.bounds(), 20000, 99, mode));
-        expect_no_mismatch(check_against_oracle(*exact, w, 2), std::string("vlf random ") + to_string(mode));
+        test::expect_no_mismatch(check_against_oracle(*exact, w, 2), std::string("vlf random ") + to_string(mode));
         if (c.fast) check_fast(*fast, w, std::string("random ") + to_string(mode), record);
     }
     if (!c.fast) return;

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "oracle/comparison.hpp"
+#include "support/differential.hpp"
 #include "workload/bench_run.hpp"
 
 using namespace beamtrace;
@@ -21,54 +22,13 @@ struct SceneCase {
 // Lets gtest (and ctest's list) name the case by its scene instead of dumping its bytes.
 void PrintTo(const SceneCase& c, std::ostream* os) { *os << c.spec; }
 
-std::string scene_path(const SceneCase& c) {
-    return c.file ? (std::filesystem::path(BEAMTRACE_SCENES_DIR) / c.spec).string() : c.spec;
-}
-
-// The cameras of one scene: its own, one inside at the centre of its box, one skimming the floor
-// (the lowest y of the box) and one whose eye sits exactly on the box's centre planes.
-std::vector<std::pair<std::string, scenes::Camera>> cameras_for(const scenes::SceneSource& s) {
-    const Box& b = s.scene.bounds();
-    const Float3 c = b.center(), e = b.extent();
-    std::vector<std::pair<std::string, scenes::Camera>> cams;
-    cams.emplace_back("default", s.camera);
-    scenes::Camera inside;
-    inside.eye = c + Float3{0.01f * e.x, 0.013f * e.y, 0.017f * e.z};
-    inside.at = inside.eye + Float3{1.0f, -0.2f, 0.4f};
-    inside.fovy_degrees = 90.0f;
-    cams.emplace_back("inside", inside);
-    scenes::Camera grazing;
-    grazing.eye = Float3{b.lower.x + 0.05f * e.x, b.lower.y + 1e-4f * e.y, b.lower.z + 0.05f * e.z};
-    grazing.at = grazing.eye + Float3{e.x, 0.0f, e.z};
-    grazing.fovy_degrees = 40.0f;
-    cams.emplace_back("grazing", grazing);
-    scenes::Camera on_plane;
-    on_plane.eye = Float3{c.x, c.y, b.upper.z + e.z};
-    on_plane.at = c;
-    on_plane.fovy_degrees = 50.0f;
-    cams.emplace_back("on-plane", on_plane);
-    return cams;
-}
-
-void expect_no_mismatch(const oracle::Tally& t, const std::string& what) {
-    EXPECT_EQ(t.mismatch, 0u) << what << ": " << oracle::summary(t);
-    EXPECT_GT(t.total(), 0u) << what;
-    if (t.mismatch > 0 && !t.examples.empty()) {
-        const oracle::Example& ex = t.examples.front();
-        ADD_FAILURE() << what << " first mismatch: ray " << ex.ray_index << " org " << ex.ray.org.x << ","
-                      << ex.ray.org.y << "," << ex.ray.org.z << " dir " << ex.ray.dir.x << "," << ex.ray.dir.y << ","
-                      << ex.ray.dir.z << " ours " << ex.ours.triangle << "@" << ex.ours.t << " oracle "
-                      << ex.oracle.triangle << "@" << ex.oracle.t;
-    }
-}
-
 }  // namespace
 
 class Differential : public ::testing::TestWithParam<SceneCase> {};
 
 TEST_P(Differential, EnginesAgreeWithEmbree) {
     const SceneCase& c = GetParam();
-    const std::string path = scene_path(c);
+    const std::string path = test::scene_path(c.spec, c.file);
     if (c.file && !std::filesystem::exists(path)) GTEST_SKIP() << "shared scene not found: " << path;
     scenes::SceneSource source = scenes::load_scene(path);
     std::vector<std::unique_ptr<Engine>> engines;
@@ -92,7 +52,7 @@ TEST_P(Differential, EnginesAgreeWithEmbree) {
         engines.back()->build(source.scene, EngineOptions{});
     }
 
-    for (const auto& [camera_name, camera] : cameras_for(source)) {
+    for (const auto& [camera_name, camera] : test::cameras_for(source)) {
         for (Mode mode : {Mode::primary, Mode::shadow, Mode::ao}) {
             WorkloadConfig config;
             config.camera = camera;
@@ -101,7 +61,7 @@ TEST_P(Differential, EnginesAgreeWithEmbree) {
             config.ao_rays = 4;
             const Workload w = make_workload(source, config);
             for (std::size_t i = 0; i < engines.size(); ++i)
-                expect_no_mismatch(check_against_oracle(*engines[i], w, 2),
+                test::expect_no_mismatch(check_against_oracle(*engines[i], w, 2),
                                    engines[i]->name() + "#" + std::to_string(i) + " " + camera_name + " " + to_string(mode));
         }
     }
@@ -112,7 +72,7 @@ TEST_P(Differential, EnginesAgreeWithEmbree) {
     for (Mode mode : {Mode::primary, Mode::shadow}) {
         replace_rays(w, make_random_rays(source.scene.bounds(), 20000, 99, mode));
         for (const auto& e : engines)
-            expect_no_mismatch(check_against_oracle(*e, w, 2), e->name() + " random " + to_string(mode));
+            test::expect_no_mismatch(check_against_oracle(*e, w, 2), e->name() + " random " + to_string(mode));
     }
 }
 
