@@ -1,16 +1,8 @@
 // AVX2 kernels (compiled with -mavx2 -mfma; contraction is off, so no FMA is emitted): 8 lanes.
-#include <immintrin.h>
-
+#include "common/lane_bits.hpp"
 #include "common/triangle_kernels_impl.hpp"
 
 namespace beamtrace {
-namespace simd {
-template <>
-inline std::uint32_t lane_bits<xsimd::avx2>(const xsimd::batch_bool<float, xsimd::avx2>& m) {
-    return std::uint32_t(_mm256_movemask_ps(m));
-}
-}  // namespace simd
-
 namespace kernels_avx2 {
 void ray_x8(const WatertightRay& r, const Triangle* const* tris, int n, LaneHits& out) {
     out.mask = 0;

@@ -1,18 +1,15 @@
 #pragma once
 // The watertight test written once over xsimd batches; included only by the per-ISA units, each of
-// which instantiates it for its own architecture and supplies lane_bits() for it.
+// which instantiates it for its own architecture (lane_bits() from common/lane_bits.hpp).
 #include <cstdint>
 
 #include <xsimd/xsimd.hpp>
 
+#include "common/lane_bits.hpp"
 #include "common/triangle_kernels.hpp"
 #include "common/triangle_reference.hpp"
 
 namespace beamtrace::simd {
-
-// Bit i set for each true lane; specialised (inline) by each per-ISA unit before including this file.
-template <class Arch>
-std::uint32_t lane_bits(const xsimd::batch_bool<float, Arch>& m);
 
 // Triangle corners relative to the ray origin, already permuted to (kx, ky, kz) per lane.
 template <class Arch>
@@ -98,22 +95,42 @@ template <class Arch>
     constexpr int W = int(B::size);
     const std::uint32_t valid = (p.active >> base) & ((1u << W) - 1u);
     if (valid == 0) return;
-    const B kx = B::load_aligned(p.kx + base), ky = B::load_aligned(p.ky + base),
-            kz = B::load_aligned(p.kz + base);
-    const B ox = B::load_aligned(p.org_x + base), oy = B::load_aligned(p.org_y + base),
-            oz = B::load_aligned(p.org_z + base);
-    const B one(1.0f), zero(0.0f);
-    // Picks component k (0, 1, 2) of (x, y, z) per lane; values are moved, never rounded.
-    auto pick = [&](const B& k, const B& x, const B& y, const B& z) {
-        return xsimd::select(k == zero, x, xsimd::select(k == one, y, z));
-    };
-    const B ax = B(tri.v0.x) - ox, ay = B(tri.v0.y) - oy, az = B(tri.v0.z) - oz;
-    const B bx = B(tri.v1.x) - ox, by = B(tri.v1.y) - oy, bz = B(tri.v1.z) - oz;
-    const B cx = B(tri.v2.x) - ox, cy = B(tri.v2.y) - oy, cz = B(tri.v2.z) - oz;
     Corners<Arch> k;
-    k.ax = pick(kx, ax, ay, az); k.ay = pick(ky, ax, ay, az); k.az = pick(kz, ax, ay, az);
-    k.bx = pick(kx, bx, by, bz); k.by = pick(ky, bx, by, bz); k.bz = pick(kz, bx, by, bz);
-    k.cx = pick(kx, cx, cy, cz); k.cy = pick(ky, cx, cy, cz); k.cz = pick(kz, cx, cy, cz);
+    if (p.same_axes) {
+        // One permutation for every lane: pick the corner components once (scalar), then subtract
+        // the origin per lane, or once when it is shared. Same operations, same results.
+        const float* v = &tri.v0.x;
+        const int kx = p.axis[0], ky = p.axis[1], kz = p.axis[2];
+        const float* org[3] = {p.org_x, p.org_y, p.org_z};
+        if (p.same_origin) {
+            const float o[3] = {org[0][p.first], org[1][p.first], org[2][p.first]};
+            k.ax = B(v[kx] - o[kx]); k.ay = B(v[ky] - o[ky]); k.az = B(v[kz] - o[kz]);
+            k.bx = B(v[3 + kx] - o[kx]); k.by = B(v[3 + ky] - o[ky]); k.bz = B(v[3 + kz] - o[kz]);
+            k.cx = B(v[6 + kx] - o[kx]); k.cy = B(v[6 + ky] - o[ky]); k.cz = B(v[6 + kz] - o[kz]);
+        } else {
+            const B ox = B::load_aligned(org[kx] + base), oy = B::load_aligned(org[ky] + base),
+                    oz = B::load_aligned(org[kz] + base);
+            k.ax = B(v[kx]) - ox; k.ay = B(v[ky]) - oy; k.az = B(v[kz]) - oz;
+            k.bx = B(v[3 + kx]) - ox; k.by = B(v[3 + ky]) - oy; k.bz = B(v[3 + kz]) - oz;
+            k.cx = B(v[6 + kx]) - ox; k.cy = B(v[6 + ky]) - oy; k.cz = B(v[6 + kz]) - oz;
+        }
+    } else {
+        const B kx = B::load_aligned(p.kx + base), ky = B::load_aligned(p.ky + base),
+                kz = B::load_aligned(p.kz + base);
+        const B ox = B::load_aligned(p.org_x + base), oy = B::load_aligned(p.org_y + base),
+                oz = B::load_aligned(p.org_z + base);
+        const B one(1.0f), zero(0.0f);
+        // Picks component k (0, 1, 2) of (x, y, z) per lane; values are moved, never rounded.
+        auto pick = [&](const B& kk, const B& x, const B& y, const B& z) {
+            return xsimd::select(kk == zero, x, xsimd::select(kk == one, y, z));
+        };
+        const B ax = B(tri.v0.x) - ox, ay = B(tri.v0.y) - oy, az = B(tri.v0.z) - oz;
+        const B bx = B(tri.v1.x) - ox, by = B(tri.v1.y) - oy, bz = B(tri.v1.z) - oz;
+        const B cx = B(tri.v2.x) - ox, cy = B(tri.v2.y) - oy, cz = B(tri.v2.z) - oz;
+        k.ax = pick(kx, ax, ay, az); k.ay = pick(ky, ax, ay, az); k.az = pick(kz, ax, ay, az);
+        k.bx = pick(kx, bx, by, bz); k.by = pick(ky, bx, by, bz); k.bz = pick(kz, bx, by, bz);
+        k.cx = pick(kx, cx, cy, cz); k.cy = pick(ky, cx, cy, cz); k.cz = pick(kz, cx, cy, cz);
+    }
     out.mask |= watertight_core<Arch>(k, B::load_aligned(p.sx + base), B::load_aligned(p.sy + base),
                                       B::load_aligned(p.sz + base), B::load_aligned(p.tnear + base),
                                       B::load_aligned(p.tfar + base), valid, out, base)

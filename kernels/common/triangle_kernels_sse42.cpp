@@ -1,16 +1,8 @@
 // SSE4.2 kernels (compiled with -msse4.2 only): 4 lanes.
-#include <immintrin.h>
-
+#include "common/lane_bits.hpp"
 #include "common/triangle_kernels_impl.hpp"
 
 namespace beamtrace {
-namespace simd {
-template <>
-inline std::uint32_t lane_bits<xsimd::sse4_2>(const xsimd::batch_bool<float, xsimd::sse4_2>& m) {
-    return std::uint32_t(_mm_movemask_ps(m));
-}
-}  // namespace simd
-
 namespace kernels_sse42 {
 void ray_x4(const WatertightRay& r, const Triangle* const* tris, int n, LaneHits& out) {
     out.mask = 0;

@@ -2,6 +2,7 @@
 // Per-ray set-up of the watertight ray/triangle test (Woop, Benthin, Wald: "Watertight Ray/Triangle
 // Intersection", JCGT 2013): the dominant direction axis kz, the two others kx, ky (swapped when
 // dir[kz] < 0 to keep the winding) and the shear that maps the ray onto +z.
+#include <bit>
 #include <cmath>
 #include <cstdint>
 
@@ -44,6 +45,12 @@ struct alignas(64) WatertightPacket16 {
     float sx[16], sy[16], sz[16];
     float tnear[16], tfar[16];
     std::uint32_t active = 0;
+    // Shared by every active lane (set by make_watertight_packet): kernels then permute the corners
+    // once per triangle instead of per lane. The arithmetic, and so every result, is the same.
+    bool same_axes = false;    // one (kx, ky, kz) for all, in axis[]
+    bool same_origin = false;  // one origin for all, lane `first`'s
+    int axis[3] = {0, 1, 2};
+    int first = 0;
 };
 
 inline WatertightPacket16 make_watertight_packet(const Packet16& p) {
@@ -57,7 +64,21 @@ inline WatertightPacket16 make_watertight_packet(const Packet16& p) {
         w.sx[i] = s.sx; w.sy[i] = s.sy; w.sz[i] = s.sz;
         w.tnear[i] = s.tnear; w.tfar[i] = s.tfar;
     }
-    w.active = p.active;
+    w.active = p.active & 0xFFFFu;
+    if (w.active != 0) {
+        const int f = __builtin_ctz(w.active);
+        w.first = f;
+        w.axis[0] = int(w.kx[f]); w.axis[1] = int(w.ky[f]); w.axis[2] = int(w.kz[f]);
+        w.same_axes = w.same_origin = true;
+        for (std::uint32_t b = w.active; b; b &= b - 1) {
+            const int i = __builtin_ctz(b);
+            w.same_axes = w.same_axes && w.kx[i] == w.kx[f] && w.ky[i] == w.ky[f] && w.kz[i] == w.kz[f];
+            // Bit patterns, not values: 0 and -0 give differently signed differences.
+            w.same_origin = w.same_origin && std::bit_cast<std::uint32_t>(w.org_x[i]) == std::bit_cast<std::uint32_t>(w.org_x[f]) &&
+                            std::bit_cast<std::uint32_t>(w.org_y[i]) == std::bit_cast<std::uint32_t>(w.org_y[f]) &&
+                            std::bit_cast<std::uint32_t>(w.org_z[i]) == std::bit_cast<std::uint32_t>(w.org_z[f]);
+        }
+    }
     return w;
 }
 

@@ -48,13 +48,14 @@ void Beam::add(const Packet16& packet) {
     if (active == 0) return;
     const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
     const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
-    Interval d[3], s[3];
+    Interval d[3] = {}, s[3] = {};
     float len_lo = kInfinity, len_hi = -kInfinity;
     bool first = true, has_zero = false;
     int negative[3] = {0, 0, 0};
+    const int main_axis_of_packet = main_of(packet, active);
     for (std::uint32_t m = active; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
-        const float mag = std::fabs(dir[main_of(packet, active)][i]);
+        const float mag = std::fabs(dir[main_axis_of_packet][i]);
         for (int k = 0; k < 3; ++k) {
             const float v = dir[k][i], p = org[k][i] + v * packet.tnear[i];
             has_zero = has_zero || v == 0.0f;
@@ -70,7 +71,7 @@ void Beam::add(const Packet16& packet) {
     Beam b;
     b.empty = false;
     b.rays = std::uint32_t(__builtin_popcount(active));
-    b.main_axis = main_of(packet, active);
+    b.main_axis = main_axis_of_packet;
     b.starts.lower = Float3{s[0].lo, s[1].lo, s[2].lo};
     b.starts.upper = Float3{s[0].hi, s[1].hi, s[2].hi};
     b.length = {len_lo, len_hi};

@@ -6,6 +6,7 @@
 #include "common/triangle_kernels.hpp"
 #include "common/watertight_ray.hpp"
 #include "mlrta/interval.hpp"
+#include "mlrta/packet_frustum.hpp"
 
 namespace beamtrace::mlrta {
 
@@ -50,73 +51,6 @@ bool packet_misses_box(const PacketBounds& pb, const Box& box, float t0, float t
     return false;
 }
 
-// For a packet whose rays share one origin: the range of every slope dir_j / dir_m (m the main
-// axis), widened. A triangle lies outside the packet's frustum when all three corners are in front
-// of the origin and beyond the same side of one slope range (a handful of operations per triangle).
-struct PacketFrustum {
-    bool valid = false;
-    int m = 0;
-    float sm = 1.0f;
-    Float3 origin;
-    Interval slope[3];
-
-    bool misses(const Triangle& t) const {
-        const Float3* corner = &t.v0;
-        Float3 c[3];
-        float w[3];
-        for (int v = 0; v < 3; ++v) {
-            c[v] = corner[v] - origin;
-            w[v] = c[v][m] * sm;  // distance in front of the origin along the main axis
-            if (!(w[v] > 0.0f)) return false;  // a corner behind the origin: no decision
-        }
-        for (int j = 0; j < 3; ++j) {
-            if (j == m) continue;
-            bool below = true, above = true;
-            for (int v = 0; v < 3; ++v) {
-                // The corner's slope c_j / |c_m| and a bound on its rounding error (the subtractions
-                // lose up to an ulp of the coordinates involved).
-                const float q = c[v][j] / w[v];
-                const float scale = std::fabs(corner[v][j]) + std::fabs(origin[j]) +
-                                    std::fabs(q) * (std::fabs(corner[v][m]) + std::fabs(origin[m]));
-                const float e = scale * (1.0f / 2097152.0f) / w[v];
-                below = below && q + e < slope[j].lo;
-                above = above && q - e > slope[j].hi;
-            }
-            if (below || above) return true;
-        }
-        return false;
-    }
-};
-
-PacketFrustum packet_frustum(const Packet16& packet, std::uint32_t mask, const PacketBounds& pb) {
-    PacketFrustum f;
-    for (int k = 0; k < 3; ++k)
-        if (pb.org[k].lo != pb.org[k].hi) return f;
-    const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
-    const int first = __builtin_ctz(mask);
-    const Float3 d0{dir[0][first], dir[1][first], dir[2][first]};
-    const float a0 = std::fabs(d0.x), a1 = std::fabs(d0.y), a2 = std::fabs(d0.z);
-    f.m = a0 >= a1 ? (a0 >= a2 ? 0 : 2) : (a1 >= a2 ? 1 : 2);
-    f.sm = float(pb.sign[f.m]);
-    f.origin = Float3{pb.org[0].lo, pb.org[1].lo, pb.org[2].lo};
-    for (int j = 0; j < 3; ++j) f.slope[j] = {kInfinity, -kInfinity};
-    for (std::uint32_t b = mask; b; b &= b - 1) {
-        const int i = __builtin_ctz(b);
-        const float dm = std::fabs(dir[f.m][i]);
-        for (int j = 0; j < 3; ++j) {
-            const float q = dir[j][i] / dm;
-            f.slope[j] = {std::min(f.slope[j].lo, q), std::max(f.slope[j].hi, q)};
-        }
-    }
-    // Slopes of rays and corners both carry rounding: widen generously (relative and absolute).
-    for (int j = 0; j < 3; ++j) {
-        const float spread = (f.slope[j].hi - f.slope[j].lo) + std::fabs(f.slope[j].lo) + std::fabs(f.slope[j].hi);
-        f.slope[j] = {f.slope[j].lo - spread * 1e-4f - 1e-6f, f.slope[j].hi + spread * 1e-4f + 1e-6f};
-    }
-    f.valid = true;
-    return f;
-}
-
 struct StackEntry {
     std::uint32_t node;
     float c0, c1;
@@ -132,9 +66,14 @@ EntryPoint root_entry(const Mlrta::Impl& m) {
     return ep;
 }
 
+namespace {
+
+// Traces the lanes of `packet` selected by `mask` (one sign octant, no zero direction component)
+// from `ep`; speed[i] is the length of lane i's direction. Closest hits go to `hits` lanes; for
+// occlusion, bits are or-ed into *occluded.
 template <bool kOcclusion, bool kCount>
 void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint32_t mask, const EntryPoint& ep,
-                        PacketHits16* hits, std::uint32_t* occluded, MlrtaCounters* counters) {
+                        const float* speed, PacketHits16* hits, std::uint32_t* occluded, MlrtaCounters* counters) {
     const KdTree::Impl& kd = m.kd();
     PacketBounds pb;
     pb.pad = scene_pad(kd.bounds);
@@ -149,12 +88,10 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
     // triangle tests keep each ray's own t.
     const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
     const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
-    float speed[16];
     float c0 = kInfinity, c1 = -kInfinity, tnear_min = kInfinity;
     bool first_lane = true;
     for (std::uint32_t bits = mask; bits; bits &= bits - 1) {
         const int i = __builtin_ctz(bits);
-        speed[i] = std::sqrt(dir[0][i] * dir[0][i] + dir[1][i] * dir[1][i] + dir[2][i] * dir[2][i]);
         float enter = packet.tnear[i] * speed[i], exit = packet.tfar[i] * speed[i];
         for (int k = 0; k < 3; ++k) {
             const float inv = speed[i] / dir[k][i];  // reciprocal of the unit direction's component
@@ -188,6 +125,8 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
         c1 = cell.hi;
     }
     // The farthest distance along its line any active ray may still hit at (its tfar or closest hit).
+    // It only changes when a ray finds a hit (or, for occlusion, stops), so it is kept, not recomputed
+    // per cell.
     auto farthest = [&](std::uint32_t lanes, const float* tfar) {
         float d = -kInfinity;
         for (; lanes; lanes &= lanes - 1) {
@@ -198,7 +137,7 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
     };
 
     PacketFrustum frustum;
-    if (m.settings.triangle_culling) frustum = packet_frustum(packet, mask, pb);
+    if (m.settings.triangle_culling) frustum = make_packet_frustum(packet, mask);
     WatertightPacket16 wp = make_watertight_packet(packet);
     wp.active = mask;
     const TriangleKernels& kernels = *kd.kernels;
@@ -208,6 +147,7 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
     std::uint32_t mailbox[kMailboxSize];
     for (std::uint32_t& b : mailbox) b = kNoHit;
 
+    float reach = farthest(wp.active, wp.tfar);
     StackEntry stack[kStackSize];
     int top = 0;
     std::uint32_t index = ep.node;
@@ -245,17 +185,22 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
             continue;
         }
         const std::uint32_t count = node.triangle_count();
-        const float reach = farthest(wp.active, wp.tfar);
         if (count > 0 && !packet_misses_box(pb, box, c0, reach)) {
             const std::uint32_t* leaf = ids + node.offset();
+            std::uint32_t culled = 0;  // bit j % 16: the packet's frustum misses leaf[j]
             for (std::uint32_t j = 0; j < count; ++j) {
+                if (frustum.valid && j % 16 == 0)  // the next 16 triangles decided at once (SIMD)
+                    culled = m.frustum_cull(frustum, tris, leaf + j, int(std::min<std::uint32_t>(16, count - j)));
                 const std::uint32_t id = leaf[j];
                 std::uint32_t& slot = mailbox[id % kMailboxSize];
                 if (slot == id) continue;  // already tested for every lane: the result cannot change
                 const Triangle& tri = tris[id];
-                if (frustum.valid) {  // a culled triangle may still be needed in a later cell
-                    if (frustum.misses(tri)) continue;
-                } else if (m.settings.triangle_culling) {
+                if (frustum.valid) {
+                    if ((culled >> (j % 16)) & 1u) {
+                        slot = id;  // the frustum is the packet's: the triangle stays culled
+                        continue;
+                    }
+                } else if (m.settings.triangle_culling) {  // a box culled here may be needed in a later cell
                     Box tb;
                     tb.extend(tri.v0); tb.extend(tri.v1); tb.extend(tri.v2);
                     if (packet_misses_box(pb, tb, c0, reach)) continue;
@@ -269,8 +214,10 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
                         *occluded |= lanes.mask;
                         wp.active &= ~lanes.mask;
                         if (wp.active == 0) return;
+                        reach = farthest(wp.active, wp.tfar);
                     }
                 } else {
+                    bool nearer = false;
                     for (std::uint32_t b = lanes.mask; b; b &= b - 1) {
                         const int i = __builtin_ctz(b);
                         if (lanes.t[i] < hits->t[i]) {
@@ -279,17 +226,18 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
                             hits->u[i] = lanes.u[i];
                             hits->v[i] = lanes.v[i];
                             wp.tfar[i] = lanes.t[i];
+                            nearer = true;
                         }
                     }
+                    if (nearer) reach = farthest(wp.active, wp.tfar);
                 }
             }
         }
-        // The farthest any active ray still needs to look: cells starting beyond it are skipped.
-        const float needed = farthest(wp.active, wp.tfar);
+        // Cells starting beyond the farthest any active ray still needs to look are skipped.
         for (;;) {
             if (top == 0) return;
             const StackEntry& e = stack[--top];
-            if (e.c0 > needed) continue;
+            if (e.c0 > reach) continue;
             index = e.node;
             c0 = e.c0;
             c1 = e.c1;
@@ -304,14 +252,14 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
 // factor kMaxRatio. Otherwise the group's interval bounds cover the whole hull of a widening beam (or
 // lose all precision for rays nearly parallel to a plane), and interval traversal visits far more
 // cells than the rays one by one would.
-bool well_conditioned(const Packet16& packet, std::uint32_t lanes) {
+bool well_conditioned(const Packet16& packet, std::uint32_t lanes, const float* speed) {
     constexpr float kMaxSpread = 0.05f, kMaxRatio = 8.0f;
     float lo[3] = {kInfinity, kInfinity, kInfinity}, hi[3] = {-kInfinity, -kInfinity, -kInfinity};
     float alo[3] = {kInfinity, kInfinity, kInfinity}, ahi[3] = {0.0f, 0.0f, 0.0f};
     for (std::uint32_t b = lanes; b; b &= b - 1) {
         const int i = __builtin_ctz(b);
         const Float3 d{packet.dir_x[i], packet.dir_y[i], packet.dir_z[i]};
-        const Float3 u = d * (1.0f / std::sqrt(dot(d, d)));
+        const Float3 u = d * (1.0f / speed[i]);
         for (int k = 0; k < 3; ++k) {
             lo[k] = std::min(lo[k], u[k]);
             hi[k] = std::max(hi[k], u[k]);
@@ -337,6 +285,8 @@ void trace_single(const Mlrta::Impl& m, const Packet16& packet, int i, PacketHit
     }
 }
 
+}  // namespace
+
 template <bool kOcclusion, bool kCount>
 void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint& ep, PacketHits16* hits,
                   std::uint32_t* occluded, MlrtaCounters* counters) {
@@ -347,6 +297,11 @@ void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint
     }
     if constexpr (kCount) ++counters->packets;
     if (ep.misses || packet.active == 0) return;
+    // Direction lengths of all lanes at once (a loop the compiler vectorises; inactive lanes unused).
+    alignas(64) float speed[16];
+    for (int i = 0; i < 16; ++i)
+        speed[i] = std::sqrt(packet.dir_x[i] * packet.dir_x[i] + packet.dir_y[i] * packet.dir_y[i] +
+                             packet.dir_z[i] * packet.dir_z[i]);
     std::uint32_t octant_lanes[8] = {};
     for (std::uint32_t bits = packet.active & 0xFFFFu; bits; bits &= bits - 1) {
         const int i = __builtin_ctz(bits);
@@ -371,8 +326,8 @@ void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint
             const int i = __builtin_ctz(b);
             origins.extend(Float3{packet.org_x[i], packet.org_y[i], packet.org_z[i]});
         }
-        if (__builtin_popcount(lanes) > 2 && !(origins.diagonal() > far_apart) && well_conditioned(packet, lanes)) {
-            interval_traversal<kOcclusion, kCount>(m, packet, lanes, ep, hits, occluded, counters);
+        if (__builtin_popcount(lanes) > 2 && !(origins.diagonal() > far_apart) && well_conditioned(packet, lanes, speed)) {
+            interval_traversal<kOcclusion, kCount>(m, packet, lanes, ep, speed, hits, occluded, counters);
             continue;
         }
         for (std::uint32_t b = lanes; b; b &= b - 1)

@@ -11,12 +11,6 @@
 
 namespace beamtrace::mlrta {
 
-// Traces the lanes of `packet` selected by `mask` (one sign octant, no zero direction component)
-// from `ep`. Closest hits go to `hits` lanes; for occlusion, bits are or-ed into *occluded.
-template <bool kOcclusion, bool kCount>
-void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint32_t mask, const EntryPoint& ep,
-                        PacketHits16* hits, std::uint32_t* occluded, MlrtaCounters* counters);
-
 // A whole packet from `ep`: the lanes are grouped by sign octant and each group is traced by
 // interval traversal; lanes with a zero direction component, groups of one or two rays, groups
 // whose origins lie more than 1% of the scene diagonal apart and groups whose directions spread

@@ -117,6 +117,24 @@ TEST_P(TriangleKernelsTest, OneRayManyTrianglesEqualsReference) {
     EXPECT_GT(hits, cases / 20) << "the generator should make many hits";
 }
 
+// Runs one packet against one triangle and compares every lane with the reference; returns the
+// number of hits and adds the active lanes to cases.
+static std::uint64_t check_packet(const TriangleKernels& k, const Packet16& p, const Triangle& tri, std::uint64_t& cases) {
+    const WatertightPacket16 w = make_watertight_packet(p);
+    LaneHits out;
+    k.packet_x1(w, tri, out);
+    std::uint64_t hits = 0;
+    for (int i = 0; i < 16; ++i) {
+        TriangleHit ref{};
+        const bool active = (p.active >> i) & 1u;
+        const bool ref_hit = active && intersect_triangle(make_watertight_ray(p.ray(i)), tri, ref);
+        expect_lane_equals_reference(out, i, ref_hit, ref, "packet_x1");
+        hits += ref_hit;
+        cases += active;
+    }
+    return hits;
+}
+
 TEST_P(TriangleKernelsTest, PacketOneTriangleEqualsReference) {
     const TriangleKernels& k = triangle_kernels(GetParam());
     CaseGenerator gen(777 + unsigned(GetParam()));
@@ -126,20 +144,50 @@ TEST_P(TriangleKernelsTest, PacketOneTriangleEqualsReference) {
         Packet16 p;
         p.active = gen.pick(10) == 0 ? std::uint32_t(gen.pick(1 << 16)) : 0xFFFFu;
         for (int i = 0; i < 16; ++i) p.set_ray(i, gen.ray_towards(tri));
-        const WatertightPacket16 w = make_watertight_packet(p);
-        LaneHits out;
-        k.packet_x1(w, tri, out);
-        for (int i = 0; i < 16; ++i) {
-            TriangleHit ref{};
-            const bool active = (p.active >> i) & 1u;
-            const bool ref_hit = active && intersect_triangle(make_watertight_ray(p.ray(i)), tri, ref);
-            expect_lane_equals_reference(out, i, ref_hit, ref, "packet_x1");
-            hits += ref_hit;
-            cases += active;
-        }
+        hits += check_packet(k, p, tri, cases);
     }
     EXPECT_GT(cases, 1000000u);
     EXPECT_GT(hits, cases / 20);
+}
+
+// Coherent packets (one origin, or one dominant axis), where the kernels permute the corners once
+// for all lanes: still the reference's results bit for bit, including origins with -0 components.
+TEST_P(TriangleKernelsTest, CoherentPacketEqualsReference) {
+    const TriangleKernels& k = triangle_kernels(GetParam());
+    CaseGenerator gen(4242 + unsigned(GetParam()));
+    std::uint64_t hits = 0, cases = 0, shared_axes = 0, shared_origin = 0;
+    for (int iter = 0; iter < 80000; ++iter) {
+        const Triangle tri = gen.triangle();
+        Packet16 p;
+        p.active = gen.pick(10) == 0 ? std::uint32_t(gen.pick(1 << 16)) : 0xFFFFu;
+        const Ray lead = gen.ray_towards(tri);
+        const bool one_origin = gen.pick(2) == 0;
+        for (int i = 0; i < 16; ++i) {
+            Ray r = gen.ray_towards(tri);
+            if (one_origin) {
+                // Same origin bits in every lane (sometimes -0), aimed near the lead's target.
+                r.org = lead.org;
+                for (int c = 0; c < 3; ++c)
+                    if (r.org[c] == 0.0f && gen.pick(2) == 0) r.org[c] = -0.0f;
+                if (i > 0) r.org = p.ray(0).org;
+                r.dir = lead.dir + Float3{gen.uniform(-0.05f, 0.05f), gen.uniform(-0.05f, 0.05f),
+                                          gen.uniform(-0.05f, 0.05f)};
+            } else {
+                // Nearby origins, nearly the same direction: the same dominant axis.
+                r.org = lead.org + Float3{gen.uniform(-0.1f, 0.1f), gen.uniform(-0.1f, 0.1f), gen.uniform(-0.1f, 0.1f)};
+                r.dir = lead.dir;
+            }
+            p.set_ray(i, r);
+        }
+        const WatertightPacket16 w = make_watertight_packet(p);
+        shared_axes += w.same_axes;
+        shared_origin += w.same_axes && w.same_origin;
+        hits += check_packet(k, p, tri, cases);
+    }
+    EXPECT_GT(cases, 1000000u);
+    EXPECT_GT(hits, cases / 20);
+    EXPECT_GT(shared_axes, 40000u) << "most packets should share one axis order";
+    EXPECT_GT(shared_origin, 20000u) << "many packets should share one origin";
 }
 
 INSTANTIATE_TEST_SUITE_P(EachIsa, TriangleKernelsTest, ::testing::ValuesIn(available_isas()),

@@ -1,0 +1,85 @@
+#pragma once
+// Triangle culling for a packet whose rays share one origin (MLRTA leaf culling, finer than the
+// leaf box): the range of every slope dir_j / |dir_m| over the packet (m the main axis), widened.
+// A triangle lies outside the frustum when all three corners are in front of the origin and beyond
+// the same side of one slope range. `misses` is the scalar reference; the SIMD kernels
+// (packet_frustum_<isa>.cpp) decide up to 16 triangles at once with the same operations in the
+// same order, so their decisions are the reference's, bit for bit.
+#include <cmath>
+#include <cstdint>
+
+#include "beamtrace/ray.hpp"
+#include "beamtrace/scene.hpp"
+#include "common/isa.hpp"
+#include "mlrta/interval.hpp"
+
+namespace beamtrace::mlrta {
+
+struct PacketFrustum {
+    bool valid = false;
+    int m = 0;          // main axis
+    int j0 = 1, j1 = 2;  // the two other axes
+    float sm = 1.0f;    // sign of the rays' main component
+    Float3 origin;
+    Interval slope[3];
+
+    // Bound on the rounding of a corner's slope, per unit of 1/w: the subtractions lose up to an
+    // ulp of the coordinates involved, the reciprocal and the products a few ulps of the slope; the
+    // bound allows 2^-21 of every magnitude involved (16 ulps of each).
+    static constexpr float kSlopeError = 1.0f / 2097152.0f;
+
+    bool misses(const Triangle& t) const {
+        const Float3* corner = &t.v0;
+        float q[3][2], e[3][2];
+        for (int v = 0; v < 3; ++v) {
+            const float cm = corner[v][m] - origin[m];
+            const float w = cm * sm;        // distance in front of the origin along the main axis
+            if (!(w > 0.0f)) return false;  // a corner behind the origin: no decision
+            const float inv_w = 1.0f / w;
+            const float err = kSlopeError * inv_w;
+            const float depth = std::fabs(corner[v][m]) + std::fabs(origin[m]);
+            const int js[2] = {j0, j1};
+            for (int a = 0; a < 2; ++a) {
+                const int j = js[a];
+                q[v][a] = (corner[v][j] - origin[j]) * inv_w;  // the corner's slope c_j / |c_m|
+                const float scale = (std::fabs(corner[v][j]) + std::fabs(origin[j])) + std::fabs(q[v][a]) * depth;
+                e[v][a] = scale * err;
+            }
+        }
+        const int js[2] = {j0, j1};
+        for (int a = 0; a < 2; ++a) {
+            const Interval s = slope[js[a]];
+            bool below = true, above = true;
+            for (int v = 0; v < 3; ++v) {
+                below = below && q[v][a] + e[v][a] < s.lo;
+                above = above && q[v][a] - e[v][a] > s.hi;
+            }
+            if (below || above) return true;
+        }
+        return false;
+    }
+};
+
+// The frustum of the lanes of `mask`, which must all point into one sign octant with no zero
+// component; `valid` is false (nothing culled) unless they share one origin.
+PacketFrustum make_packet_frustum(const Packet16& packet, std::uint32_t mask);
+
+// Bit i set when the frustum misses tris[ids[i]], for i < n (n <= 16).
+using FrustumCullKernel = std::uint32_t (*)(const PacketFrustum& f, const Triangle* tris, const std::uint32_t* ids,
+                                            int n);
+
+// The kernel of one instruction set (which must be available): scalar (the reference), SSE4.2
+// (4 triangles per step), AVX2 (8), AVX-512 (16).
+FrustumCullKernel frustum_cull_kernel(Isa isa);
+
+namespace frustum_cull_sse42 {
+std::uint32_t misses(const PacketFrustum&, const Triangle*, const std::uint32_t*, int);
+}
+namespace frustum_cull_avx2 {
+std::uint32_t misses(const PacketFrustum&, const Triangle*, const std::uint32_t*, int);
+}
+namespace frustum_cull_avx512 {
+std::uint32_t misses(const PacketFrustum&, const Triangle*, const std::uint32_t*, int);
+}
+
+}  // namespace beamtrace::mlrta

@@ -1,0 +1,58 @@
+#pragma once
+// PacketFrustum::misses written once over xsimd batches, W triangles per step (structure of arrays
+// gathered from the leaf's ids). Included only by the per-ISA units.
+#include <xsimd/xsimd.hpp>
+
+#include "common/lane_bits.hpp"
+#include "mlrta/packet_frustum.hpp"
+
+namespace beamtrace::mlrta::simd {
+
+template <class Arch>
+std::uint32_t frustum_misses(const PacketFrustum& f, const Triangle* tris, const std::uint32_t* ids, int n) {
+    using B = xsimd::batch<float, Arch>;
+    constexpr int W = int(B::size);
+    const int m = f.m, j0 = f.j0, j1 = f.j1;
+    const B sm(f.sm), zero(0.0f), one(1.0f), slope_error(PacketFrustum::kSlopeError);
+    const B om(f.origin[m]), oj0(f.origin[j0]), oj1(f.origin[j1]);
+    const B abs_om(std::fabs(f.origin[m])), abs_oj0(std::fabs(f.origin[j0])), abs_oj1(std::fabs(f.origin[j1]));
+    const B lo0(f.slope[j0].lo), hi0(f.slope[j0].hi), lo1(f.slope[j1].lo), hi1(f.slope[j1].hi);
+    std::uint32_t result = 0;
+    for (int base = 0; base < n; base += W) {
+        // Corner coordinates on the main axis and the two others, W triangles (lanes past n repeat
+        // the first triangle; their bits are dropped).
+        alignas(64) float cm[3][W], c0[3][W], c1[3][W];
+        for (int i = 0; i < W; ++i) {
+            const Triangle& t = tris[ids[base + i < n ? base + i : 0]];
+            const Float3* corner = &t.v0;
+            for (int v = 0; v < 3; ++v) {
+                cm[v][i] = corner[v][m];
+                c0[v][i] = corner[v][j0];
+                c1[v][i] = corner[v][j1];
+            }
+        }
+        auto in_front = B(0.0f) == zero;  // all true
+        auto below0 = in_front, above0 = in_front, below1 = in_front, above1 = in_front;
+        for (int v = 0; v < 3; ++v) {
+            const B pm = B::load_aligned(cm[v]), p0 = B::load_aligned(c0[v]), p1 = B::load_aligned(c1[v]);
+            const B w = (pm - om) * sm;
+            in_front = in_front & (w > zero);
+            const B inv_w = one / w;
+            const B err = slope_error * inv_w;
+            const B depth = xsimd::abs(pm) + abs_om;
+            const B q0 = (p0 - oj0) * inv_w, q1 = (p1 - oj1) * inv_w;
+            const B e0 = ((xsimd::abs(p0) + abs_oj0) + xsimd::abs(q0) * depth) * err;
+            const B e1 = ((xsimd::abs(p1) + abs_oj1) + xsimd::abs(q1) * depth) * err;
+            below0 = below0 & ((q0 + e0) < lo0);
+            above0 = above0 & ((q0 - e0) > hi0);
+            below1 = below1 & ((q1 + e1) < lo1);
+            above1 = above1 & ((q1 - e1) > hi1);
+        }
+        const auto miss = in_front & (below0 | above0 | below1 | above1);
+        const int live = n - base < W ? n - base : W;
+        result |= (beamtrace::simd::lane_bits<Arch>(miss) & ((1u << live) - 1u)) << base;
+    }
+    return result;
+}
+
+}  // namespace beamtrace::mlrta::simd

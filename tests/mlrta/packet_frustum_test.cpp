@@ -1,0 +1,128 @@
+// Packet frustum culling (leaf triangles against a common-origin packet): the SIMD kernels decide
+// exactly as the scalar reference, and no triangle any ray of the packet hits is ever culled.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+#include "common/triangle_reference.hpp"
+#include "common/watertight_ray.hpp"
+#include "mlrta/packet_frustum.hpp"
+
+using namespace beamtrace;
+using namespace beamtrace::mlrta;
+
+namespace {
+
+struct Generator {
+    std::mt19937 rng;
+    explicit Generator(unsigned seed) : rng(seed) {}
+    float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); }
+    int pick(int n) { return int(rng() % unsigned(n)); }
+    Float3 point(float r) { return {uniform(-r, r), uniform(-r, r), uniform(-r, r)}; }
+
+    // 16 rays from one origin around a random direction (spread up to ~6 degrees), all in one octant.
+    Packet16 packet(float origin_scale) {
+        Packet16 p;
+        const Float3 origin = point(origin_scale);
+        Float3 centre = point(1);
+        for (int k = 0; k < 3; ++k)
+            if (std::fabs(centre[k]) < 0.2f) centre[k] = centre[k] < 0 ? -0.2f : 0.2f;
+        for (int i = 0; i < 16; ++i) {
+            Ray r;
+            r.org = origin;
+            r.dir = centre + point(0.05f);
+            p.set_ray(i, r);
+        }
+        p.active = pick(4) == 0 ? std::uint32_t(1 + pick(0xFFFF)) : 0xFFFFu;
+        return p;
+    }
+
+    // A triangle near the packet: around a point along one of its rays (or behind the origin),
+    // shifted sideways by up to 2% or 30% of the distance, corners within 3% of it.
+    Triangle triangle_near(const Packet16& p) {
+        const Ray r = p.ray(pick(16));
+        const float t = pick(8) == 0 ? uniform(-2, 0) : uniform(0.5f, 20);
+        const float reach = std::fabs(t);
+        const Float3 centre = r.org + r.dir * t + point(pick(2) ? 0.02f : 0.3f) * reach;
+        Float3 c[3];
+        for (Float3& corner : c) corner = centre + point(0.03f) * reach;
+        return {c[0], c[1], c[2]};
+    }
+};
+
+std::vector<Isa> isas() {
+    std::vector<Isa> out;
+    for (Isa isa : {Isa::scalar, Isa::sse42, Isa::avx2, Isa::avx512})
+        if (isa_available(isa)) out.push_back(isa);
+    return out;
+}
+
+}  // namespace
+
+TEST(MlrtaPacketFrustum, KernelsDecideExactlyAsTheScalarReference) {
+    for (Isa isa : isas()) {
+        const FrustumCullKernel kernel = frustum_cull_kernel(isa);
+        Generator gen(11 + unsigned(isa));
+        std::uint64_t culled = 0, decided = 0;
+        for (int iter = 0; iter < 20000; ++iter) {
+            const Packet16 p = gen.packet(iter % 3 == 0 ? 1000.0f : 3.0f);
+            const PacketFrustum f = make_packet_frustum(p, p.active);
+            ASSERT_TRUE(f.valid);
+            std::vector<Triangle> tris;
+            for (int i = 0; i < 40; ++i) tris.push_back(gen.triangle_near(p));
+            std::uint32_t ids[16];
+            const int n = 1 + gen.pick(16);
+            for (int i = 0; i < n; ++i) ids[i] = std::uint32_t(gen.pick(int(tris.size())));
+            const std::uint32_t bits = kernel(f, tris.data(), ids, n);
+            ASSERT_EQ(bits >> n, 0u) << isa_name(isa) << ": bits past n";
+            for (int i = 0; i < n; ++i) {
+                const bool expected = f.misses(tris[ids[i]]);
+                ASSERT_EQ(((bits >> i) & 1u) != 0, expected) << isa_name(isa) << " triangle " << i << " of " << n;
+                culled += expected;
+                ++decided;
+            }
+        }
+        EXPECT_GT(culled, decided / 10) << isa_name(isa) << ": the generator should make many culled triangles";
+        EXPECT_LT(culled, decided - decided / 10) << isa_name(isa) << ": and many kept ones";
+    }
+}
+
+TEST(MlrtaPacketFrustum, NeverCullsATriangleThatARayOfThePacketHits) {
+    Generator gen(99);
+    std::uint64_t hit_triangles = 0, culled = 0;
+    for (int iter = 0; iter < 30000; ++iter) {
+        const Packet16 p = gen.packet(iter % 2 == 0 ? 5000.0f : 2.0f);
+        const PacketFrustum f = make_packet_frustum(p, p.active);
+        for (int k = 0; k < 8; ++k) {
+            // Triangles around one ray's path, small enough to be missed by the others.
+            const Ray r = p.ray(__builtin_ctz(p.active));
+            const Float3 centre = r.org + r.dir * gen.uniform(0.5f, 50);
+            const float size = gen.pick(2) ? 0.01f : 0.3f;
+            const Triangle tri{centre + gen.point(size), centre + gen.point(size), centre + gen.point(size)};
+            bool any_hit = false;
+            for (std::uint32_t b = p.active; b; b &= b - 1) {
+                TriangleHit h;
+                any_hit = any_hit || intersect_triangle(make_watertight_ray(p.ray(__builtin_ctz(b))), tri, h);
+            }
+            const bool miss = f.misses(tri);
+            culled += miss;
+            if (any_hit) {
+                ++hit_triangles;
+                ASSERT_FALSE(miss) << "a triangle hit by a ray of the packet was culled (iteration " << iter << ")";
+            }
+        }
+    }
+    EXPECT_GT(hit_triangles, 10000u);
+    EXPECT_GT(culled, 5000u);
+}
+
+TEST(MlrtaPacketFrustum, OnlyForPacketsWithOneOrigin) {
+    Generator gen(5);
+    Packet16 p = gen.packet(1.0f);
+    EXPECT_TRUE(make_packet_frustum(p, p.active).valid);
+    p.org_x[3] += 0.5f;
+    EXPECT_FALSE(make_packet_frustum(p, 0xFFFFu).valid);
+    EXPECT_TRUE(make_packet_frustum(p, 0xFFF7u).valid) << "lane 3 is not part of the group";
+    EXPECT_FALSE(make_packet_frustum(p, 0u).valid);
+}
