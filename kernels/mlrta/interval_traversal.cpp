@@ -3,6 +3,7 @@
 #include <cfloat>
 #include <cmath>
 
+#include "common/ray_validity.hpp"
 #include "common/triangle_kernels.hpp"
 #include "common/watertight_ray.hpp"
 #include "mlrta/interval.hpp"
@@ -200,10 +201,6 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
                         slot = id;  // the frustum is the packet's: the triangle stays culled
                         continue;
                     }
-                } else if (m.settings.triangle_culling) {  // a box culled here may be needed in a later cell
-                    Box tb;
-                    tb.extend(tri.v0); tb.extend(tri.v1); tb.extend(tri.v2);
-                    if (packet_misses_box(pb, tb, c0, reach)) continue;
                 }
                 slot = id;
                 if constexpr (kCount) ++counters->triangle_tests;
@@ -303,9 +300,10 @@ void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint
         speed[i] = std::sqrt(packet.dir_x[i] * packet.dir_x[i] + packet.dir_y[i] * packet.dir_y[i] +
                              packet.dir_z[i] * packet.dir_z[i]);
     std::uint32_t octant_lanes[8] = {};
-    for (std::uint32_t bits = packet.active & 0xFFFFu; bits; bits &= bits - 1) {
+    // Rays that describe no segment (NaN, infinities, a zero direction, tnear > tfar) report nothing.
+    for (std::uint32_t bits = packet.active & 0xFFFFu & segment_lanes(packet); bits; bits &= bits - 1) {
         const int i = __builtin_ctz(bits);
-        // Zero (or denormal, or NaN) components have no usable reciprocal: such rays go alone.
+        // Zero (or denormal) components have no usable reciprocal: such rays go alone.
         if (!(std::fabs(packet.dir_x[i]) >= FLT_MIN && std::fabs(packet.dir_y[i]) >= FLT_MIN &&
               std::fabs(packet.dir_z[i]) >= FLT_MIN)) {
             trace_single<kOcclusion, kCount>(m, packet, i, hits, occluded, counters);

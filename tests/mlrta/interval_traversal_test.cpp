@@ -239,15 +239,17 @@ TEST(MlrtaIntervalTraversal, ReversedShadowRaysGiveTheSameOcclusion) {
     EXPECT_GT(counters.xp_steps, 0u);
 }
 
-// Triangle culling (off by default): the frustum test on triangle corners for one-origin packets,
-// test (2) on triangle boxes for others. It may only skip triangles no ray can hit.
+// Triangle culling (on by default): the frustum test on triangle corners for one-origin packets.
+// It may only skip triangles no ray can hit.
 TEST(MlrtaIntervalTraversal, TriangleCullingKeepsEveryHit) {
     MlrtaSettings s;
     s.triangle_culling = true;
     const World w(random_soup(3000, 42), s);
     Rng rng(43);
     MlrtaCounters on, off;
-    const auto plain = make_mlrta(w.tree);
+    MlrtaSettings no_culling;
+    no_culling.triangle_culling = false;
+    const auto plain = make_mlrta(w.tree, no_culling);
     for (int n = 0; n < 1500; ++n) {
         Packet16 p = coherent_packet(rng, w.m->kd().bounds, n % 2 == 0);
         if (n % 3 == 0)
