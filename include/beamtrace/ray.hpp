@@ -12,7 +12,18 @@ inline constexpr std::uint32_t kNoHit = 0xFFFFFFFFu;
 inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
 // One ray: points org + t * dir for tnear <= t <= tfar. dir need not be normalised (t is measured in
-// units of |dir|) but must not be the zero vector.
+// units of |dir|); tnear may be negative (the segment then reaches behind org); tfar may be +infinity.
+//
+// A ray describes a segment when org and dir are finite, dir is not the zero vector, tnear is finite,
+// tfar is not NaN and tnear <= tfar. Every query of every engine reports no hit (and no occlusion) for
+// any other ray -- a NaN or infinite component, a zero direction, tnear > tfar -- and treats it in a
+// packet as an inactive lane, leaving the other rays' answers unchanged. Never an error, a crash or
+// a hang.
+//
+// Rounding: a hit within rounding of tnear or tfar (a ray starting exactly on a surface) may be
+// reported or not. Answers are exact (as exact geometry, watertight) while the products of the
+// coordinates involved stay inside float's range: docs/robustness.md gives the range and what
+// happens beyond it.
 struct Ray {
     Float3 org;
     float tnear = 0.0f;

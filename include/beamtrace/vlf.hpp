@@ -57,6 +57,8 @@ private:
 };
 
 enum class VlfMode { exact, fast };
+// The order in which a stream of packets is traced (see VisibilityField::occluded).
+enum class VlfOrder { input, psf };
 
 struct VlfOptions {
     int directions = DirectionSet::kDefaultCount;  // l
@@ -123,13 +125,17 @@ public:
     // then each ray walks its own tiles. Inactive rays report no hit. Returns bit i = ray i occluded.
     void intersect(const Packet16& packet, PacketHits16& hits, VlfMode mode = VlfMode::exact) const;
     std::uint32_t occluded(const Packet16& packet, VlfMode mode = VlfMode::exact) const;
-    // Many packets at once, traced grouped by PSF rather than in the given order: the rays are
-    // binned by the PSF their lookup picks (a counting sort) and regrouped into packets PSF by PSF,
-    // so that each PSF's tiles are read while they are in the cache (incoherent secondary rays).
-    // Same answers as the packets one by one; one element of hits / occluded per packet.
-    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, VlfMode mode = VlfMode::exact) const;
-    void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded,
-                  VlfMode mode = VlfMode::exact) const;
+    // Many packets at once (a stream), one element of hits / occluded per packet, the same answers
+    // as the packets one by one. The packets are traced as a pipeline: while one packet walks, the
+    // lookups, tile entries, blocks and first triangles of the next ones are fetched from memory.
+    // VlfOrder::input traces the packets in the given order; VlfOrder::psf first bins the rays by
+    // the PSF their lookup picks and, within a PSF, by the tile where they start (counting sorts),
+    // and regroups them into packets, so that each PSF's tiles are read front to back while they
+    // are in the cache (incoherent secondary rays).
+    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, VlfMode mode = VlfMode::exact,
+                   VlfOrder order = VlfOrder::psf) const;
+    void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded, VlfMode mode = VlfMode::exact,
+                  VlfOrder order = VlfOrder::psf) const;
 
     // Builds every PSF not built yet (TBB, all cores), reporting progress in [0, 1].
     void build_all(const Progress& progress = {});

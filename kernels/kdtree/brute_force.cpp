@@ -1,12 +1,14 @@
 // The brute-force reference: every non-degenerate triangle against the ray, scalar.
 #include "beamtrace/kdtree.hpp"
+#include "common/ray_validity.hpp"
 #include "common/triangle_reference.hpp"
 
 namespace beamtrace {
 
 Hit intersect_brute_force(const Scene& scene, const Ray& ray) {
-    WatertightRay w = make_watertight_ray(ray);
     Hit best;
+    if (!describes_segment(ray)) return best;
+    WatertightRay w = make_watertight_ray(ray);
     const std::size_t n = scene.triangle_count();
     for (std::uint32_t t = 0; t < n; ++t) {
         if (scene.is_degenerate(t)) continue;
@@ -20,6 +22,7 @@ Hit intersect_brute_force(const Scene& scene, const Ray& ray) {
 }
 
 bool occluded_brute_force(const Scene& scene, const Ray& ray) {
+    if (!describes_segment(ray)) return false;
     const WatertightRay w = make_watertight_ray(ray);
     const std::size_t n = scene.triangle_count();
     for (std::uint32_t t = 0; t < n; ++t) {

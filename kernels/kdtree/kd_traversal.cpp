@@ -2,7 +2,9 @@
 // soon as the closest hit lies inside the current cell. Counting is a template parameter, so the
 // measured path and the counted path are the same code.
 #include <cmath>
+#include <utility>
 
+#include "common/ray_validity.hpp"
 #include "common/triangle_reference.hpp"
 #include "kdtree/kd_node.hpp"
 
@@ -46,6 +48,7 @@ template <bool kOcclusion, bool kCount>
 Hit traverse(const KdTree::Impl& tree, const Ray& ray, TraversalCounters* counters) {
     Hit best;
     if constexpr (kCount) ++counters->rays;
+    if (!describes_segment(ray)) return best;
     const Float3 inv{1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};
     float tmin, tmax;
     if (!clip_to_box(ray, inv, tree.bounds, tmin, tmax)) return best;
@@ -70,13 +73,16 @@ Hit traverse(const KdTree::Impl& tree, const Ray& ray, TraversalCounters* counte
             // A ray starting exactly in the plane visits the cell behind it first, with the interval
             // [tmin, 0], so that hits at t = 0 on triangles kept on that side are found.
             const bool lower_first = o < node.split || (o == node.split && d > 0.0f);
-            const std::uint32_t first = lower_first ? index + 1 : node.upper_child();
-            const std::uint32_t second = lower_first ? node.upper_child() : index + 1;
+            std::uint32_t first = lower_first ? index + 1 : node.upper_child();
+            std::uint32_t second = lower_first ? node.upper_child() : index + 1;
+            // The plane crossed behind the origin (reached only with a negative tnear): before the
+            // crossing the ray is on the far side of the origin's cell, after it in the origin's.
+            if (tplane < 0.0f) std::swap(first, second);
             if (tplane != tplane) {  // the ray lies in the split plane: both children, same interval
                 stack[top++] = StackEntry{second, tmin, tmax};
                 index = first;
                 in_plane = true;
-            } else if (tplane > tmax + slack(tmax) || tplane < 0.0f) {
+            } else if (tplane > tmax + slack(tmax)) {
                 index = first;
             } else if (tplane < tmin - slack(tmin)) {
                 index = second;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "common/ray_validity.hpp"
+
 namespace beamtrace::mlrta {
 
 namespace {
@@ -44,7 +46,8 @@ void Beam::add(const Ray& ray) {
 void Beam::add(const Packet16& packet) {
     // Per-component ranges of the active rays, then the slopes by interval division: looser than
     // per-ray slopes but a few operations per ray (this runs for every packet of every tile).
-    const std::uint32_t active = packet.active & 0xFFFFu;
+    // Rays that describe no segment are traced by nobody and must not widen (or poison) the beam.
+    const std::uint32_t active = packet.active & 0xFFFFu & segment_lanes(packet);
     if (active == 0) return;
     const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
     const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};

@@ -19,16 +19,22 @@ std::uint32_t frustum_misses(const PacketFrustum& f, const Triangle* tris, const
     const B lo0(f.slope[j0].lo), hi0(f.slope[j0].hi), lo1(f.slope[j1].lo), hi1(f.slope[j1].hi);
     std::uint32_t result = 0;
     for (int base = 0; base < n; base += W) {
-        // Corner coordinates on the main axis and the two others, W triangles (lanes past n repeat
-        // the first triangle; their bits are dropped).
+        // Corner coordinates on the main axis and the two others, one triangle per lane; lanes past
+        // n hold zeros (their bits are dropped).
+        const int live = n - base < W ? n - base : W;
         alignas(64) float cm[3][W], c0[3][W], c1[3][W];
-        for (int i = 0; i < W; ++i) {
-            const Triangle& t = tris[ids[base + i < n ? base + i : 0]];
-            const Float3* corner = &t.v0;
+        if (live < W)
             for (int v = 0; v < 3; ++v) {
-                cm[v][i] = corner[v][m];
-                c0[v][i] = corner[v][j0];
-                c1[v][i] = corner[v][j1];
+                zero.store_aligned(cm[v]);
+                zero.store_aligned(c0[v]);
+                zero.store_aligned(c1[v]);
+            }
+        for (int i = 0; i < live; ++i) {
+            const float* corner = &tris[ids[base + i]].v0.x;
+            for (int v = 0; v < 3; ++v) {
+                cm[v][i] = corner[3 * v + m];
+                c0[v][i] = corner[3 * v + j0];
+                c1[v][i] = corner[3 * v + j1];
             }
         }
         auto in_front = B(0.0f) == zero;  // all true
@@ -49,7 +55,6 @@ std::uint32_t frustum_misses(const PacketFrustum& f, const Triangle* tris, const
             above1 = above1 & ((q1 - e1) > hi1);
         }
         const auto miss = in_front & (below0 | above0 | below1 | above1);
-        const int live = n - base < W ? n - base : W;
         result |= (beamtrace::simd::lane_bits<Arch>(miss) & ((1u << live) - 1u)) << base;
     }
     return result;

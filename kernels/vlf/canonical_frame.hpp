@@ -35,6 +35,7 @@ struct TileGrid {
     double h = 0.0;       // tile side, 2 R / n
     double inv_h = 0.0;
     double pad = 0.0;     // padding of triangles (across and along the beam)
+    double lattice_scale = 0.0;  // footprint lattice cells per unit of length (tile_footprint.hpp)
 
     static TileGrid around(const Box& box, int n) {
         TileGrid g;
@@ -50,6 +51,7 @@ struct TileGrid {
         g.h = 2.0 * r / n;
         g.inv_h = 1.0 / g.h;
         g.pad = kPadFraction * r;
+        g.lattice_scale = 256.0 / (g.h + 2.0 * g.pad);
         return g;
     }
     // Lower corner of the grid in canonical x and y.

@@ -41,6 +41,14 @@ void check_ids(const VisibilityField::Impl& f, std::span<const std::uint32_t> id
     }
 }
 
+// The field's own indices (spatial_order.hpp) of the caller's ids.
+std::vector<std::uint32_t> field_indices(const VisibilityField::Impl& f, std::span<const std::uint32_t> ids) {
+    std::vector<std::uint32_t> own;
+    own.reserve(ids.size());
+    for (std::uint32_t id : ids) own.push_back(f.rank[id]);
+    return own;
+}
+
 // Runs f(psf) on every built PSF, in parallel.
 template <class F>
 void each_built_psf(VisibilityField::Impl& field, F&& f) {
@@ -57,17 +65,20 @@ void each_built_psf(VisibilityField::Impl& field, F&& f) {
 void VisibilityField::remove(std::span<const std::uint32_t> ids) {
     Impl& f = *impl_;
     check_ids(f, ids, true, "remove");
-    for (std::uint32_t id : ids) f.inserted[id] = f.present[id] = 0;
+    const std::vector<std::uint32_t> own = field_indices(f, ids);
+    for (std::uint32_t id : ids) f.inserted[id] = 0;
+    for (std::uint32_t k : own) f.present[k] = 0;
     const vlf::SubfieldInput input = f.input();
-    each_built_psf(f, [&](vlf::ParallelSubfield& psf) { psf.remove(ids, input); });
+    each_built_psf(f, [&](vlf::ParallelSubfield& psf) { psf.remove(own, input); });
 }
 
 void VisibilityField::transform(std::span<const std::uint32_t> ids, const Affine3& map) {
     Impl& f = *impl_;
     check_ids(f, ids, false, "transform");
     for (std::uint32_t id : ids) {
-        Triangle& t = f.triangles[id];
+        Triangle& t = f.caller_triangles[id];
         t = Triangle{map.apply(t.v0), map.apply(t.v1), map.apply(t.v2)};
+        f.triangles[f.rank[id]] = t;
     }
 }
 
@@ -75,7 +86,7 @@ void VisibilityField::insert(std::span<const std::uint32_t> ids) {
     Impl& f = *impl_;
     check_ids(f, ids, false, "insert");
     for (std::uint32_t id : ids) {
-        const Triangle& t = f.triangles[id];
+        const Triangle& t = f.caller_triangles[id];
         for (const Float3& p : {t.v0, t.v1, t.v2})
             for (int k = 0; k < 3; ++k)
                 if (!(p[k] >= f.bounds.lower[k] && p[k] <= f.bounds.upper[k]))
@@ -84,10 +95,11 @@ void VisibilityField::insert(std::span<const std::uint32_t> ids) {
     }
     for (std::uint32_t id : ids) {
         f.inserted[id] = 1;
-        f.present[id] = zero_area(f.triangles[id]) ? 0 : 1;
+        f.present[f.rank[id]] = zero_area(f.caller_triangles[id]) ? 0 : 1;
     }
+    const std::vector<std::uint32_t> own = field_indices(f, ids);
     const vlf::SubfieldInput input = f.input();
-    each_built_psf(f, [&](vlf::ParallelSubfield& psf) { psf.insert(ids, input); });
+    each_built_psf(f, [&](vlf::ParallelSubfield& psf) { psf.insert(own, input); });
 }
 
 }  // namespace beamtrace

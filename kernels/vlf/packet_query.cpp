@@ -1,6 +1,7 @@
 // Packet queries: the 16 lookups at once, then each ray's own walk.
 #include <cmath>
 
+#include "common/ray_validity.hpp"
 #include "vlf/direction_set_impl.hpp"
 #include "vlf/field_query.hpp"
 #include "vlf/packet_start.hpp"
@@ -38,24 +39,26 @@ namespace vlf {
 void lookup_packet(const VisibilityField::Impl& f, const Packet16& p, PacketLookup& out) {
     if (f.simd->lookup_packet) f.simd->lookup_packet(f.lookup.tables, p, out);
     else lookup_lanes(f, p, out);
+    out.valid &= segment_lanes(p);  // rays that describe no segment report nothing
 }
 
 void start_packet(const VisibilityField::Impl& f, const Packet16& p, PacketStart& s) {
     lookup_packet(f, p, s.lookup);
     const vlf::PacketLookup& l = s.lookup;
     const auto n = std::uint32_t(f.grid.n);
-    std::uint32_t tile[16];
     for (std::uint32_t m = l.valid; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
         s.psf[i] = &f.psf(l.psf[i]);
-        tile[i] = std::uint32_t(l.row[i]) * n + std::uint32_t(l.column[i]);
-        s.psf[i]->prefetch_tile(tile[i]);
+        s.tile[i] = std::uint32_t(l.row[i]) * n + std::uint32_t(l.column[i]);
+        s.psf[i]->prefetch_tile(s.tile[i]);
     }
-    TileRef ref[16];
-    for (std::uint32_t m = l.valid; m; m &= m - 1) {
+}
+
+void prefetch_first_blocks(const PacketStart& s) {
+    for (std::uint32_t m = s.lookup.valid; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
-        ref[i] = s.psf[i]->tile(tile[i]);
-        if (ref[i].leaves) s.psf[i]->prefetch_block(ref[i], 0, 64);
+        const TileRef ref = s.psf[i]->tile(s.tile[i]);
+        if (ref.leaves) s.psf[i]->prefetch_block(ref, 0, 128);
     }
 }
 
@@ -65,6 +68,7 @@ void VisibilityField::intersect(const Packet16& packet, PacketHits16& hits, VlfM
     const Impl& f = *impl_;
     vlf::PacketStart s;
     vlf::start_packet(f, packet, s);
+    vlf::prefetch_first_blocks(s);
     for (int i = 0; i < 16; ++i) hits.set_hit(i, Hit{});
     for (std::uint32_t m = s.lookup.valid; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
@@ -77,6 +81,7 @@ std::uint32_t VisibilityField::occluded(const Packet16& packet, VlfMode mode) co
     const Impl& f = *impl_;
     vlf::PacketStart s;
     vlf::start_packet(f, packet, s);
+    vlf::prefetch_first_blocks(s);
     std::uint32_t bits = 0;
     for (std::uint32_t m = s.lookup.valid; m; m &= m - 1) {
         const int i = __builtin_ctz(m);

@@ -1,8 +1,10 @@
 #pragma once
-// The start of a packet query: the 16 lookups (SIMD), then the memory the 16 walks begin with is
-// requested for all of them before the first walk starts (the first tile's entry, the first 256
-// bytes of its block), so that the cache misses of different rays overlap instead of following
-// one another. Shared by the packet queries and the binned ray streams.
+// The start of a packet query, in two stages so that a stream of packets can run them ahead of
+// the walks (ray_stream.cpp): start_packet makes the 16 lookups (SIMD) and asks the cache for each
+// ray's first tile entry; prefetch_first_blocks then reads those entries and asks for the start of
+// each tile's block. A lone packet runs both back to back, so the cache misses of its 16 rays
+// overlap instead of following one another; a stream runs them one and two packets ahead of the
+// walks, so the misses are resolved by the time the walks need the data.
 #include "vlf/packet_lookup.hpp"
 #include "vlf/parallel_subfield.hpp"
 #include "vlf/vlf_impl.hpp"
@@ -12,9 +14,11 @@ namespace beamtrace::vlf {
 struct PacketStart {
     PacketLookup lookup;
     const ParallelSubfield* psf[16];  // of the valid lanes (built now if needed)
+    std::uint32_t tile[16];           // of the valid lanes: the tile where the segment starts
 };
 
 void lookup_packet(const VisibilityField::Impl& f, const Packet16& p, PacketLookup& out);
 void start_packet(const VisibilityField::Impl& f, const Packet16& p, PacketStart& s);
+void prefetch_first_blocks(const PacketStart& s);
 
 }  // namespace beamtrace::vlf

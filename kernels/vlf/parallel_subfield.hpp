@@ -44,7 +44,7 @@ public:
     void prefetch_block(TileRef ref, std::uint32_t first, std::uint32_t count) const {
         const char* a = reinterpret_cast<const char*>(pool_.data() + ref.offset + first);
         const char* b = reinterpret_cast<const char*>(pool_.data() + ref.offset + first + (count ? count : 1));
-        for (const char* p = a; p < b && p < a + 256; p += 64) _mm_prefetch(p, _MM_HINT_T0);
+        for (const char* p = a; p < b; p += 64) _mm_prefetch(p, _MM_HINT_T0);
     }
 
     // Dynamic updates. remove: the triangles `ids` (already marked absent in input.present, still

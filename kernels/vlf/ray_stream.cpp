@@ -1,8 +1,12 @@
-// Ray streams: many packets traced PSF by PSF. Pass 1 looks every ray up (SIMD) and counts the
-// rays of each PSF; pass 2 copies each ray, with its place in the input, into its PSF's bin; the
-// bins are then cut into packets again, traced, and the answers put back where the rays came from.
-// Within a bin the rays keep their input order, so rays from neighbouring pixels stay together and
-// meet neighbouring tiles.
+// Ray streams: many packets traced PSF by PSF and, within a PSF, tile by tile. Pass 1 looks every
+// ray up (SIMD) and counts the rays of each PSF; pass 2 copies each ray, with its place in the
+// input and its first tile, into its PSF's bin; each bin is then ordered by first tile (a stable
+// counting sort by column, then by row), cut into packets again and traced, and the answers put
+// back where the rays came from. Rays of one tile follow one another, and the tiles of a PSF are
+// visited in the order their blocks lie in memory, so a PSF is read front to back, not at random.
+// The packets of a bin are traced as a pipeline (packet_start.hpp): the lookups of packet g + 2 and
+// the first blocks of packet g + 2 are requested from memory while packet g walks.
+#include <algorithm>
 #include <vector>
 
 #include "vlf/field_query.hpp"
@@ -11,77 +15,157 @@
 namespace beamtrace {
 namespace {
 
-constexpr std::uint16_t kNoPsf = 0xFFFF;
+// A ray's PSF and first tile in one word (PSF < 2^12, tile < 2^20: l <= 2049, n <= 1024).
+constexpr std::uint32_t kTileBits = 20;
+constexpr std::uint32_t kNoBin = 0xFFFFFFFFu;
 
 struct BinnedRay {
     Ray ray;
     std::uint32_t slot;  // packet * 16 + lane in the input
+    std::uint32_t tile;  // row * n + column of the tile where its segment starts
 };
 
-// Calls trace(packet, slots, count) for packets of up to 16 rays of one PSF each.
-template <class Trace>
-void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, Trace&& trace) {
+// Stable counting sort of in by key(ray) < buckets into out.
+template <class Key>
+void counting_sort(std::span<const BinnedRay> in, BinnedRay* out, std::uint32_t buckets, std::vector<std::uint32_t>& next,
+                   Key&& key) {
+    next.assign(std::size_t(buckets) + 1, 0);
+    for (const BinnedRay& r : in) ++next[key(r) + 1];
+    for (std::uint32_t b = 0; b < buckets; ++b) next[b + 1] += next[b];
+    for (const BinnedRay& r : in) out[next[key(r)]++] = r;
+}
+
+// Up to 16 rays as a packet, with their start (lookups, first tiles) and where they came from.
+struct Group {
+    Packet16 packet;
+    std::uint32_t slots[16];
+    vlf::PacketStart start;
+};
+
+// Calls walk(group) for `groups` groups, filled by fill(g, group) (packet, slots), as a pipeline:
+// while group g walks, the first blocks of group g + 1 and g + 2 and the tile entries of group
+// g + 3 are on their way from memory (see packet_start.hpp).
+template <class Fill, class Walk>
+void pipeline(const VisibilityField::Impl& f, std::size_t groups, Fill&& fill, Walk&& walk) {
+    constexpr std::size_t kAhead = 3;
+    Group ring[kAhead + 1];
+    auto at = [&](std::size_t g) -> Group& { return ring[g % (kAhead + 1)]; };
+    auto begin = [&](std::size_t g) {
+        fill(g, at(g));
+        vlf::start_packet(f, at(g).packet, at(g).start);
+    };
+    for (std::size_t g = 0; g < groups && g < kAhead; ++g) begin(g);
+    if (groups > 0) vlf::prefetch_first_blocks(at(0).start);
+    if (groups > 1) vlf::prefetch_first_blocks(at(1).start);
+    for (std::size_t g = 0; g < groups; ++g) {
+        if (g + 3 < groups) begin(g + 3);
+        if (g + 2 < groups) vlf::prefetch_first_blocks(at(g + 2).start);
+        walk(at(g));
+    }
+}
+
+// The rays of one bin, 16 at a time.
+template <class Walk>
+void trace_bin(const VisibilityField::Impl& f, std::span<const BinnedRay> rays, Walk&& walk) {
+    pipeline(f, (rays.size() + 15) / 16, [&](std::size_t g, Group& q) {
+        const std::size_t b = g * 16;
+        const int count = int(std::min<std::size_t>(16, rays.size() - b));
+        q.packet.active = count == 16 ? 0xFFFFu : (1u << count) - 1u;
+        for (int k = 0; k < 16; ++k) {
+            const BinnedRay& r = rays[b + std::size_t(k < count ? k : 0)];
+            q.packet.set_ray(k, r.ray);
+            q.slots[k] = r.slot;
+        }
+    }, walk);
+}
+
+// The packets as given.
+template <class Walk>
+void in_order(const VisibilityField::Impl& f, std::span<const Packet16> packets, Walk&& walk) {
+    pipeline(f, packets.size(), [&](std::size_t g, Group& q) {
+        q.packet = packets[g];
+        for (int k = 0; k < 16; ++k) q.slots[k] = std::uint32_t(g * 16 + std::size_t(k));
+    }, walk);
+}
+
+// Calls walk(group) for every ray of the packets, grouped by PSF and ordered by first tile.
+template <class Walk>
+void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, Walk&& walk) {
     const std::size_t psfs = f.psfs.size();
-    std::vector<std::uint16_t> psf_of(packets.size() * 16, kNoPsf);
+    const auto n = std::uint32_t(f.grid.n);
+    std::vector<std::uint32_t> bin_of(packets.size() * 16, kNoBin);
     std::vector<std::size_t> first(psfs + 1, 0);
     vlf::PacketLookup lookup;
     for (std::size_t p = 0; p < packets.size(); ++p) {
         vlf::lookup_packet(f, packets[p], lookup);
         for (std::uint32_t m = lookup.valid; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
-            psf_of[p * 16 + std::size_t(i)] = std::uint16_t(lookup.psf[i]);
+            const std::uint32_t tile = std::uint32_t(lookup.row[i]) * n + std::uint32_t(lookup.column[i]);
+            bin_of[p * 16 + std::size_t(i)] = (lookup.psf[i] << kTileBits) | tile;
             ++first[lookup.psf[i] + 1];
         }
     }
     for (std::size_t i = 0; i < psfs; ++i) first[i + 1] += first[i];
     std::vector<BinnedRay> rays(first[psfs]);
-    std::vector<std::size_t> next(first.begin(), first.end() - 1);
-    for (std::size_t slot = 0; slot < psf_of.size(); ++slot)
-        if (psf_of[slot] != kNoPsf) rays[next[psf_of[slot]]++] = BinnedRay{packets[slot / 16].ray(int(slot % 16)), std::uint32_t(slot)};
-    Packet16 packet;
-    std::uint32_t slots[16];
-    for (std::size_t i = 0; i < psfs; ++i)
-        for (std::size_t b = first[i]; b < first[i + 1]; b += 16) {
-            const int count = int(std::min<std::size_t>(16, first[i + 1] - b));
-            packet.active = (1u << count) - 1u;
-            for (int k = 0; k < 16; ++k) {
-                const BinnedRay& r = rays[b + std::size_t(k < count ? k : 0)];
-                packet.set_ray(k, r.ray);
-                slots[k] = r.slot;
-            }
-            trace(packet, slots);
+    {
+        std::vector<std::size_t> next(first.begin(), first.end() - 1);
+        for (std::size_t slot = 0; slot < bin_of.size(); ++slot) {
+            const std::uint32_t b = bin_of[slot];
+            if (b == kNoBin) continue;
+            rays[next[b >> kTileBits]++] = BinnedRay{packets[slot / 16].ray(int(slot % 16)), std::uint32_t(slot),
+                                                     b & ((1u << kTileBits) - 1u)};
         }
+    }
+    bin_of = {};
+    std::vector<BinnedRay> scratch;
+    std::vector<std::uint32_t> counts;
+    for (std::size_t i = 0; i < psfs; ++i) {
+        const std::span<BinnedRay> bin(rays.data() + first[i], first[i + 1] - first[i]);
+        if (bin.empty()) continue;
+        if (bin.size() > 16) {
+            scratch.resize(bin.size());
+            counting_sort(bin, scratch.data(), n, counts, [n](const BinnedRay& r) { return r.tile % n; });
+            counting_sort(scratch, bin.data(), n, counts, [n](const BinnedRay& r) { return r.tile / n; });
+        }
+        trace_bin(f, bin, walk);
+    }
+}
+
+// in_order or binned.
+template <class Walk>
+void stream(const VisibilityField::Impl& f, std::span<const Packet16> packets, VlfOrder order, Walk&& walk) {
+    if (order == VlfOrder::input) in_order(f, packets, walk);
+    else binned(f, packets, walk);
 }
 
 }  // namespace
 
-void VisibilityField::intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, VlfMode mode) const {
+void VisibilityField::intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, VlfMode mode,
+                                VlfOrder order) const {
     for (PacketHits16& h : hits)
         for (int i = 0; i < 16; ++i) h.set_hit(i, Hit{});
     const Impl& f = *impl_;
-    binned(f, packets, [&](const Packet16& packet, const std::uint32_t* slots) {
-        vlf::PacketStart s;
-        vlf::start_packet(f, packet, s);
-        for (std::uint32_t m = s.lookup.valid; m; m &= m - 1) {
+    stream(f, packets, order, [&](const Group& g) {
+        for (std::uint32_t m = g.start.lookup.valid; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
-            const Hit h = vlf::walk_field<false, false>(f, *s.psf[i], s.lookup.ray(i), s.lookup.watertight(i, packet),
-                                                        mode, nullptr);
-            hits[slots[i] / 16].set_hit(int(slots[i] % 16), h);
+            const Hit h = vlf::walk_field<false, false>(f, *g.start.psf[i], g.start.lookup.ray(i),
+                                                        g.start.lookup.watertight(i, g.packet), mode, nullptr);
+            hits[g.slots[i] / 16].set_hit(int(g.slots[i] % 16), h);
         }
     });
 }
 
-void VisibilityField::occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded, VlfMode mode) const {
+void VisibilityField::occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded, VlfMode mode,
+                               VlfOrder order) const {
     for (std::uint32_t& bits : occluded) bits = 0;
     const Impl& f = *impl_;
-    binned(f, packets, [&](const Packet16& packet, const std::uint32_t* slots) {
-        vlf::PacketStart s;
-        vlf::start_packet(f, packet, s);
-        for (std::uint32_t m = s.lookup.valid; m; m &= m - 1) {
+    stream(f, packets, order, [&](const Group& g) {
+        for (std::uint32_t m = g.start.lookup.valid; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
-            if (vlf::walk_field<true, false>(f, *s.psf[i], s.lookup.ray(i), s.lookup.watertight(i, packet), mode, nullptr)
+            if (vlf::walk_field<true, false>(f, *g.start.psf[i], g.start.lookup.ray(i),
+                                             g.start.lookup.watertight(i, g.packet), mode, nullptr)
                     .hit())
-                occluded[slots[i] / 16] |= 1u << (slots[i] % 16);
+                occluded[g.slots[i] / 16] |= 1u << (g.slots[i] % 16);
         }
     });
 }

@@ -4,6 +4,8 @@
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include "vlf/entry_closest_hit_impl.hpp"
+#include "vlf/entry_occlusion_impl.hpp"
 #include "vlf/footprint_scan_impl.hpp"
 #include "vlf/packet_lookup_impl.hpp"
 #include "vlf/vlf_kernels.hpp"
@@ -15,6 +17,16 @@ void lookup_packet(const LookupTables& t, const Packet16& p, PacketLookup& out) 
 std::uint32_t scan_footprints(const std::uint32_t* footprints, std::uint32_t count, std::uint32_t ray,
                               std::uint32_t* passing) {
     return scan_avx512(footprints, count, ray, passing);
+}
+EntriesAnswer occlude_entries(const WatertightRay& ray, const Triangle* triangles, const std::uint32_t* footprints,
+                              const std::uint32_t* ids, std::uint32_t count, std::uint32_t ray_footprint,
+                              bool distinct, std::uint32_t* hit) {
+    return occlude_entries_avx512(ray, triangles, footprints, ids, count, ray_footprint, distinct, hit);
+}
+bool closest_entries(const WatertightRay& ray, const Triangle* triangles, const std::uint32_t* order,
+                     const std::uint32_t* footprints, const std::uint32_t* ids, std::uint32_t count,
+                     std::uint32_t ray_footprint, TestedIds& tested, Hit& best) {
+    return closest_entries_avx512(ray, triangles, order, footprints, ids, count, ray_footprint, tested, best);
 }
 }  // namespace beamtrace::vlf::simd_avx512
 #pragma GCC diagnostic pop

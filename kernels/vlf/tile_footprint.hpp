@@ -24,7 +24,7 @@ struct FootprintLattice {
     double scale = 0;       // lattice cells per unit of length
 
     static FootprintLattice of_tile(const TileGrid& g, int column, int row) {
-        return FootprintLattice{g.edge(column) - g.pad, g.edge(row) - g.pad, 256.0 / (g.h + 2.0 * g.pad)};
+        return FootprintLattice{g.edge(column) - g.pad, g.edge(row) - g.pad, g.lattice_scale};
     }
     // floor(q) clamped to [0, 255] (truncation is floor for the positive q that reach it).
     static std::uint32_t cell(double q) { return q < 1.0 ? 0u : (q >= 255.0 ? 255u : std::uint32_t(q)); }

@@ -12,6 +12,7 @@
 // its leaves between the segment's two depths.
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 #include "beamtrace/vlf.hpp"
 #include "common/triangle_kernels.hpp"
@@ -29,9 +30,65 @@ struct WalkContext {
     const TileGrid* grid = nullptr;
     const Triangle* triangles = nullptr;
     std::size_t triangle_count = 0;
+    const std::uint32_t* order = nullptr;  // caller's id of each triangle: ties go to the smaller
     const TriangleKernels* kernels = nullptr;
     ScanFootprintsFn scan = nullptr;
+    OccludeEntriesFn occlude = nullptr;
+    ClosestEntriesFn closest = nullptr;  // nullptr: the walk's own leaf loop
 };
+
+// The ray's footprint (tile_footprint.hpp) over the part [t0, t1] of its segment.
+inline std::uint32_t ray_footprint(const FootprintLattice& lattice, const CanonicalRay& cr, double t0, double t1) {
+    const double xa = cr.ox + t0 * cr.dx, xb = cr.ox + t1 * cr.dx;
+    const double ya = cr.oy + t0 * cr.dy, yb = cr.oy + t1 * cr.dy;
+    return lattice.ray(xa < xb ? xa : xb, xa < xb ? xb : xa, ya < yb ? ya : yb, ya < yb ? yb : ya);
+}
+
+// Where the segment leaves its first tile (the end of the walk's first visit; t1 in mode fast).
+template <bool kFast>
+double first_tile_exit(const TileGrid& g, const CanonicalRay& cr) {
+    if constexpr (kFast) return cr.t1;
+    const double tx = cr.dx > 0.0 ? (g.edge(cr.column + 1) - cr.ox) * cr.inv_dx
+                      : cr.dx < 0.0 ? (g.edge(cr.column) - cr.ox) * cr.inv_dx
+                                    : std::numeric_limits<double>::infinity();
+    const double ty = cr.dy > 0.0 ? (g.edge(cr.row + 1) - cr.oy) * cr.inv_dy
+                      : cr.dy < 0.0 ? (g.edge(cr.row) - cr.oy) * cr.inv_dy
+                                    : std::numeric_limits<double>::infinity();
+    double exit = tx < ty ? tx : ty;
+    exit = exit < cr.t1 ? exit : cr.t1;
+    return exit > cr.t0 ? exit : cr.t0;
+}
+
+// Whether the segment lies in the tile where it starts (so a walk visits that tile alone).
+template <bool kFast>
+bool segment_in_first_tile(const TileGrid& g, const CanonicalRay& cr) {
+    return kFast || first_tile_exit<false>(g, cr) >= cr.t1;
+}
+
+// Occlusion of a ray whose segment lies in its first tile (segment_in_first_tile): the visit of
+// TileWalk as one fused kernel (entry_occlusion.hpp) over the leaves the segment spans, with the
+// footprint of the whole segment. The same triangles as TileWalk tests; too_many (more than
+// kFusedEntries entries, or more candidates than the kernel takes) leaves the ray to TileWalk.
+inline constexpr std::uint32_t kFusedEntries = 64;
+inline EntriesAnswer occlude_in_first_tile(const ParallelSubfield& psf, const WalkContext& ctx, const CanonicalRay& cr,
+                                           const WatertightRay& ray, std::uint32_t& hit) {
+    const TileGrid& g = *ctx.grid;
+    const TileRef ref = psf.tile(std::uint32_t(cr.row) * std::uint32_t(g.n) + std::uint32_t(cr.column));
+    if (ref.leaves == 0) return EntriesAnswer::clear;
+    const TileBspView bsp = psf.view(ref);
+    std::uint32_t j0 = 0, j1 = 0;
+    if (ref.leaves > 1) {
+        j0 = bsp.leaf(cr.oz + cr.t0 * cr.dz);
+        j1 = bsp.leaf(cr.oz + cr.t1 * cr.dz);
+        if (j0 > j1) std::swap(j0, j1);
+    }
+    const std::uint32_t first = bsp.begin(j0), count = bsp.end(j1) - first;
+    // A long run (dense tiles: the room's desks) is better walked in chunks that stop at the first
+    // hit than scanned whole before any test.
+    if (count > kFusedEntries) return EntriesAnswer::too_many;
+    const std::uint32_t footprint = ray_footprint(FootprintLattice::of_tile(g, cr.column, cr.row), cr, cr.t0, cr.t1);
+    return ctx.occlude(ray, ctx.triangles, bsp.footprints() + first, bsp.ids() + first, count, footprint, j0 == j1, &hit);
+}
 
 template <bool kOcclusion, bool kFast, bool kCount>
 class TileWalk {
@@ -79,13 +136,12 @@ private:
         if (ref.leaves == 0) return false;
         const TileBspView bsp = psf_.view(ref);
         const FootprintLattice lattice = FootprintLattice::of_tile(*ctx_.grid, c, r);
-        // The ray's footprint over [t0, t1] of its segment.
-        auto footprint = [&](double t0, double t1) {
-            const double xa = cr.ox + t0 * cr.dx, xb = cr.ox + t1 * cr.dx;
-            const double ya = cr.oy + t0 * cr.dy, yb = cr.oy + t1 * cr.dy;
-            return lattice.ray(xa < xb ? xa : xb, xa < xb ? xb : xa, ya < yb ? ya : yb, ya < yb ? yb : ya);
-        };
-        if (ref.leaves == 1) return leaves(bsp, 0, 0, footprint(ta, tb)) || (!kOcclusion && double(best_.t) <= tb);
+        auto footprint = [&](double t0, double t1) { return ray_footprint(lattice, cr, t0, t1); };
+        if (ref.leaves == 1) {
+            if constexpr (kOcclusion) return leaves(bsp, 0, 0, footprint(ta, tb));
+            closest_in_leaf(bsp, 0, footprint(ta, tb));
+            return double(best_.t) <= tb;
+        }
         const std::uint32_t ja = bsp.leaf(cr.oz + ta * cr.dz), jb = bsp.leaf(cr.oz + tb * cr.dz);
         // Any hit ends an occlusion walk, so the order of its tests does not matter: the leaves
         // from ja to jb, stored one after the other, are scanned in one pass.
@@ -98,11 +154,33 @@ private:
             double end = tb;
             if (j != jb) end = (double(bsp.split(forward ? j : j - 1)) - cr.oz) * cr.inv_dz;
             end = end < start ? start : (end > tb ? tb : end);
-            leaves(bsp, j, j, footprint(start, end));
+            closest_in_leaf(bsp, j, footprint(start, end));
             if (double(best_.t) <= end) return true;
             if (j == jb) return false;
             start = end;
         }
+    }
+
+    // Closest hit: the untested triangles of leaf j whose footprint meets the ray's, by the fused
+    // kernel (entry_closest_hit.hpp) where the instruction set has one and the ray still keeps its
+    // tested ids in the short list, else by leaves(). The counting walks always take leaves().
+    void closest_in_leaf(const TileBspView& bsp, std::uint32_t j, std::uint32_t ray) {
+        if constexpr (!kCount && !kOcclusion) {
+            if (ctx_.closest != nullptr && mailbox_ == nullptr) {
+                const std::uint32_t first = bsp.begin(j);
+                TestedIds tested{listed_ids_, listed_, kListed};
+                if (ctx_.closest(wray_, ctx_.triangles, ctx_.order, bsp.footprints() + first, bsp.ids() + first,
+                                 bsp.end(j) - first, ray, tested, best_)) {
+                    for (std::uint32_t k = listed_; k < tested.count; ++k)
+                        listed_filter_[(listed_ids_[k] >> 6) & 3u] |= std::uint64_t(1) << (listed_ids_[k] & 63u);
+                    listed_ = tested.count;
+                    if (best_.triangle != kNoHit) wray_.tfar = best_.t;
+                    distinct_ = false;
+                    return;
+                }
+            }
+        }
+        leaves(bsp, j, j, ray);
     }
 
     // Tests the untested triangles of leaves [j0, j1] whose footprint meets the ray's; true if the
@@ -138,18 +216,19 @@ private:
     }
 
     // Mailboxing: the triangles a ray has tested go to a short list (searched once the ray has
-    // left the run of distinct ids it started with, the first leaf, and only when a 64-bit filter
+    // left the run of distinct ids it started with, the first leaf, and only when a 256-bit filter
     // of the listed ids' low bits says the id may be there); the thread's mailbox, one stamp per
     // triangle, takes over with that list when it fills. Most rays never need it.
     bool already_tested(std::uint32_t id) {
         if (mailbox_ != nullptr) return mailbox_->seen(id);
+        std::uint64_t& word = listed_filter_[(id >> 6) & 3u];
         const std::uint64_t bit = std::uint64_t(1) << (id & 63u);
-        if (!distinct_ && (listed_filter_ & bit))
+        if (!distinct_ && (word & bit))
             for (std::uint32_t k = 0; k < listed_; ++k)
                 if (listed_ids_[k] == id) return true;
         if (listed_ < kListed) {
             listed_ids_[listed_++] = id;
-            listed_filter_ |= bit;
+            word |= bit;
             return false;
         }
         mailbox_ = &Mailbox::local();
@@ -169,7 +248,7 @@ private:
                 best_.triangle = ids[0];
                 return true;
             }
-            if (h.t < best_.t) {
+            if (nearer(h.t, ids[0])) {
                 best_ = Hit{h.t, ids[0], h.u, h.v};
                 wray_.tfar = h.t;
             }
@@ -186,13 +265,19 @@ private:
         } else {
             for (std::uint32_t m = lanes.mask; m; m &= m - 1) {
                 const int i = __builtin_ctz(m);
-                if (lanes.t[i] < best_.t) {
+                if (nearer(lanes.t[i], ids[i])) {
                     best_ = Hit{lanes.t[i], ids[i], lanes.u[i], lanes.v[i]};
                     wray_.tfar = lanes.t[i];
                 }
             }
         }
         return false;
+    }
+
+    // Whether a hit at t on triangle id beats the best so far: nearer, or as near on a triangle of
+    // smaller caller's id (so the answer does not depend on the order of the tests).
+    bool nearer(float t, std::uint32_t id) const {
+        return t < best_.t || (t == best_.t && best_.hit() && ctx_.order[id] < ctx_.order[best_.triangle]);
     }
 
     const ParallelSubfield& psf_;
@@ -204,7 +289,7 @@ private:
     static constexpr std::uint32_t kScanChunk = 128;  // entries scanned per call of the kernel
     std::uint32_t listed_ids_[kListed];  // ids tested in the first leaf, before the mailbox
     std::uint32_t listed_ = 0;
-    std::uint64_t listed_filter_ = 0;
+    std::uint64_t listed_filter_[4] = {0, 0, 0, 0};  // bit (id & 255) set: id may be listed
     bool distinct_ = true;  // every id met so far came from one leaf (no repeats possible)
     Mailbox* mailbox_ = nullptr;
 };

@@ -7,8 +7,10 @@
 #include <tbb/parallel_for.h>
 
 #include "beamtrace/error.hpp"
+#include "common/ray_validity.hpp"
 #include "vlf/direction_set_impl.hpp"
 #include "vlf/field_query.hpp"
+#include "vlf/spatial_order.hpp"
 
 namespace beamtrace {
 
@@ -35,10 +37,17 @@ VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o) : options(o
     grid = vlf::TileGrid::around(bounds, o.tiles);
     world_box = vlf::WorldBox::around(bounds, grid.pad);
     const std::size_t count = scene.triangle_count();
-    triangles.assign(scene.triangles().begin(), scene.triangles().end());
-    inserted.assign(count, 1);
+    caller_triangles.assign(scene.triangles().begin(), scene.triangles().end());
+    order = vlf::spatial_order(caller_triangles, bounds);
+    rank.resize(count);
+    triangles.resize(count);
     present.resize(count);
-    for (std::size_t t = 0; t < count; ++t) present[t] = scene.is_degenerate(std::uint32_t(t)) ? 0 : 1;
+    for (std::size_t k = 0; k < count; ++k) {
+        rank[order[k]] = std::uint32_t(k);
+        triangles[k] = caller_triangles[order[k]];
+        present[k] = scene.is_degenerate(order[k]) ? 0 : 1;
+    }
+    inserted.assign(count, 1);
     for (int i = 0; i < directions.size(); ++i) frames.push_back(vlf::CanonicalFrame::towards(directions.direction(i)));
     psfs.resize(std::size_t(directions.size()));
     ready = std::make_unique<std::atomic<const vlf::ParallelSubfield*>[]>(psfs.size());
@@ -88,6 +97,7 @@ namespace {
 template <bool kOcclusion, bool kCount>
 Hit trace(const VisibilityField::Impl& f, const Ray& ray, VlfMode mode, VlfCounters* counters) {
     if constexpr (kCount) ++counters->rays;
+    if (!describes_segment(ray)) return Hit{};
     const float s = std::fabs(ray.dir.x) + std::fabs(ray.dir.y) + std::fabs(ray.dir.z);
     if (!(s > 0.0f && s < kInfinity)) return Hit{};
     const DirectionSet::Nearest nearest = f.directions.impl().nearest(ray.dir.x, ray.dir.y, ray.dir.z);
@@ -136,7 +146,7 @@ void VisibilityField::build_all(const Progress& progress) {
 
 const DirectionSet& VisibilityField::directions() const { return impl_->directions; }
 const VlfOptions& VisibilityField::options() const { return impl_->options; }
-std::span<const Triangle> VisibilityField::triangles() const { return impl_->triangles; }
+std::span<const Triangle> VisibilityField::triangles() const { return impl_->caller_triangles; }
 bool VisibilityField::contains(std::uint32_t id) const {
     return id < impl_->inserted.size() && impl_->inserted[id] != 0;
 }
@@ -147,7 +157,7 @@ VlfStats VisibilityField::stats() const {
     s.directions = f.options.directions;
     s.tiles = f.options.tiles;
     s.depth = f.options.depth;
-    s.memory_bytes = f.directions.memory_bytes() + f.triangles.size() * (sizeof(Triangle) + 2) +
+    s.memory_bytes = f.directions.memory_bytes() + f.triangles.size() * (2 * sizeof(Triangle) + 2 + 8) +
                      f.frames.size() * sizeof(vlf::CanonicalFrame);
     f.for_each_built([&](std::size_t, const vlf::ParallelSubfield& p) {
         ++s.psfs_built;

@@ -1,4 +1,5 @@
-// Run-time choice of the VLF-RT kernels, and the scalar footprint scan (the reference).
+// Run-time choice of the VLF-RT kernels, and the scalar footprint scan (the reference; the
+// reference of the entry occlusion is in entry_occlusion.hpp).
 #include "vlf/vlf_kernels.hpp"
 
 #include "vlf/tile_footprint.hpp"
@@ -14,10 +15,13 @@ std::uint32_t scan_scalar(const std::uint32_t* footprints, std::uint32_t count, 
     return n;
 }
 
-constexpr VlfKernels kScalar{Isa::scalar, nullptr, scan_scalar};
-constexpr VlfKernels kSse42{Isa::sse42, simd_sse42::lookup_packet, simd_sse42::scan_footprints};
-constexpr VlfKernels kAvx2{Isa::avx2, simd_avx2::lookup_packet, simd_avx2::scan_footprints};
-constexpr VlfKernels kAvx512{Isa::avx512, simd_avx512::lookup_packet, simd_avx512::scan_footprints};
+constexpr VlfKernels kScalar{Isa::scalar, nullptr, scan_scalar, occlude_entries_scalar, nullptr};
+constexpr VlfKernels kSse42{Isa::sse42, simd_sse42::lookup_packet, simd_sse42::scan_footprints, occlude_entries_scalar,
+                            nullptr};
+constexpr VlfKernels kAvx2{Isa::avx2, simd_avx2::lookup_packet, simd_avx2::scan_footprints, occlude_entries_scalar,
+                           nullptr};
+constexpr VlfKernels kAvx512{Isa::avx512, simd_avx512::lookup_packet, simd_avx512::scan_footprints,
+                             simd_avx512::occlude_entries, simd_avx512::closest_entries};
 
 }  // namespace
 

@@ -1,9 +1,14 @@
 #pragma once
 // The SIMD kernels of VLF-RT, one set per instruction set, chosen at run time like the triangle
-// kernels: the packet lookup (packet_lookup.hpp) and the footprint scan (tile_footprint.hpp).
+// kernels: the packet lookup (packet_lookup.hpp), the footprint scan (tile_footprint.hpp) and the
+// occlusion by a run of tile entries (entry_occlusion.hpp; AVX-512 only, the reference elsewhere)
+// and the closest hit among a leaf's entries (entry_closest_hit.hpp; AVX-512 only, nullptr
+// elsewhere: the walk's own leaf loop).
 #include <cstdint>
 
 #include "common/isa.hpp"
+#include "vlf/entry_closest_hit.hpp"
+#include "vlf/entry_occlusion.hpp"
 #include "vlf/packet_lookup.hpp"
 
 namespace beamtrace::vlf {
@@ -17,6 +22,8 @@ struct VlfKernels {
     Isa isa;
     LookupPacketFn lookup_packet;  // nullptr for Isa::scalar: packets run the single-ray set-up lane by lane
     ScanFootprintsFn scan_footprints;
+    OccludeEntriesFn occlude_entries;
+    ClosestEntriesFn closest_entries;
 };
 
 const VlfKernels& vlf_kernels(Isa isa);
@@ -32,6 +39,10 @@ std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t
 namespace simd_avx512 {
 void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&);
 std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t*);
+EntriesAnswer occlude_entries(const WatertightRay&, const Triangle*, const std::uint32_t*, const std::uint32_t*,
+                              std::uint32_t, std::uint32_t, bool, std::uint32_t*);
+bool closest_entries(const WatertightRay&, const Triangle*, const std::uint32_t*, const std::uint32_t*,
+                     const std::uint32_t*, std::uint32_t, std::uint32_t, TestedIds&, Hit&);
 }  // namespace simd_avx512
 
 }  // namespace beamtrace::vlf

@@ -97,7 +97,7 @@ TEST(Cli, MlrtaAndKdSettingsAreChecked) {
     EXPECT_EQ(run("bench --scene tetra:1 --engines kd1 --kd-intersection-cost -1").exit_code, 2);
     const CommandResult r = run("bench --scene tetra:3 --engines kd16,mlrta --width 32 --height 32 --repeats 1 "
                                 "--mlrta-tile 16 --mlrta-split 4 --mlrta-min-tile 8 --mlrta-frustum direct "
-                                "--mlrta-ep-search bifurcation-stack --triangle-culling --kd-tiny-cell 0");
+                                "--mlrta-ep-search bifurcation-stack --no-triangle-culling --kd-tiny-cell 0");
     EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 

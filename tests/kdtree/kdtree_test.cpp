@@ -88,6 +88,19 @@ TEST(KdTree, RayIntervalIsRespected) {
     EXPECT_FALSE(tree.intersect(Ray{o, 0.0f, Float3{0, 0, -1}, kInfinity}).hit());
 }
 
+// A negative tnear reaches behind the origin: planes crossed there must be followed too (the
+// traversal once sent such rays only to the origin's side and lost every hit behind it).
+TEST(KdTree, NegativeTnearFindsHitsBehindTheOrigin) {
+    const Scene s = test::random_soup(3000, 21);
+    const KdTree tree = KdTree::build(s);
+    std::vector<Ray> rays = test::random_rays(s.bounds(), 5000, 22);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        rays[i].tnear = i % 2 ? -1e3f : -0.5f;
+        if (i % 3 == 0) rays[i].tfar = 0.25f;  // the segment lies mostly behind the origin
+    }
+    expect_same_as_brute_force(tree, rays);
+}
+
 TEST(KdTree, StatisticsAreConsistent) {
     const Scene s = test::random_soup(5000, 12);
     const KdTree tree = KdTree::build(s);

@@ -113,6 +113,41 @@ TEST(EmbreeOracle, NegativeTnearReachesBehindTheOrigin) {
     EXPECT_EQ(o.occluded16(p), 1u << 5);
 }
 
+TEST(EmbreeOracle, DirectionsBeyondEmbreesRangeAreScaledOriginsBeyondItReportNothing) {
+    // Embree aborts on components above 1.844e18 (ray.valid()); the oracle must never pass one on.
+    const EmbreeOracle o(one_triangle());
+    for (float scale : {1e18f, 2e18f, 1e30f, 3e38f}) {
+        SCOPED_TRACE(scale);
+        const Ray r = make_ray({0.5f, 0.25f, -2.0f}, {0, 0, scale});
+        const Hit h = o.intersect1(r);
+        ASSERT_TRUE(h.hit());
+        EXPECT_FLOAT_EQ(h.t, 3.0f / scale);
+        EXPECT_NEAR(h.u, 0.25f, 1e-6f);
+        EXPECT_TRUE(o.occluded1(r));
+        EXPECT_FALSE(o.occluded1(make_ray({0.5f, 0.25f, -2.0f}, {0, 0, scale}, 0.0f, 2.0f / scale)));
+        Packet16 p{};
+        p.set_ray(3, r);
+        p.active = 1u << 3;
+        PacketHits16 hits;
+        o.intersect16(p, hits);
+        EXPECT_EQ(hits.triangle[3], 0u);
+        EXPECT_FLOAT_EQ(hits.t[3], 3.0f / scale);
+        EXPECT_EQ(o.occluded16(p), 1u << 3);
+    }
+    for (const Ray& r : {make_ray({0.5f, 0.25f, -2e18f}, {0, 0, 1}), make_ray({0.5f, 3e38f, -2.0f}, {0, 0, 1}),
+                         make_ray({0.5f, 0.25f, 1.0f}, {0, 0, 1e30f}, -1e10f)}) {
+        EXPECT_FALSE(o.intersect1(r).hit());
+        EXPECT_FALSE(o.occluded1(r));
+        Packet16 p{};
+        p.set_ray(0, r);
+        p.active = 1u;
+        PacketHits16 hits;
+        o.intersect16(p, hits);
+        EXPECT_FALSE(hits.hit(0).hit());
+        EXPECT_EQ(o.occluded16(p), 0u);
+    }
+}
+
 TEST(EmbreeOracle, AxisParallelRaysInsideACube) {
     const EmbreeOracle o(cube());
     // From the centre along each axis: face order -x, +x, -y, +y, -z, +z.

@@ -1,9 +1,6 @@
 // beamtrace bench: every engine on the same rays, timed (best of N), checked against Embree.
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <memory>
-#include <sstream>
 
 #include "beamtrace/error.hpp"
 #include "cli/commands.hpp"
@@ -15,8 +12,9 @@ namespace {
 
 struct BenchArgs {
     SceneOptions scene;
-    std::string light, mode = "primary", engines, json, markdown;
-    int ao_rays = 16, repeats = 3;
+    RayOptions rays;
+    std::string engines, json, markdown;
+    int repeats = 3;
     std::string mlrta_frustum = "inverse";
     std::string mlrta_ep_search = "top-down";
     MlrtaSettings mlrta;
@@ -25,24 +23,6 @@ struct BenchArgs {
     std::string vlf_order = "auto";
     KdBuildRules kd;
 };
-
-std::vector<std::string> split_list(const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream in(text);
-    std::string item;
-    while (std::getline(in, item, ','))
-        if (!item.empty()) out.push_back(item);
-    return out;
-}
-
-void write_text(const std::string& path, const std::string& text) {
-    const std::filesystem::path p(path);
-    if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
-    std::ofstream out(p);
-    out << text;
-    if (!out) throw Error("cannot write " + path);
-}
-
 
 std::string bench_header(const workload::BenchResult& r) {
     char buf[512];
@@ -58,12 +38,10 @@ std::function<void()> add_bench_command(CLI::App& app) {
     auto args = std::make_shared<BenchArgs>();
     CLI::App* cmd = app.add_subcommand("bench", "time engines on the same rays and compare every hit with Embree");
     add_scene_options(*cmd, args->scene);
-    cmd->add_option("--light", args->light, "X,Y,Z point light of shadow rays (default: halfway between camera and scene centre)");
-    cmd->add_option("--mode", args->mode, "primary | shadow | ao")->capture_default_str();
+    add_ray_options(*cmd, args->rays);
     std::string names;
     for (const std::string& n : workload::engine_names()) names += (names.empty() ? "" : ", ") + n;
     cmd->add_option("--engines", args->engines, "comma-separated engines: " + names)->required();
-    cmd->add_option("--ao-rays", args->ao_rays, "occlusion rays per pixel in ao mode")->capture_default_str()->check(CLI::Range(1, 4096));
     cmd->add_option("--repeats", args->repeats, "timed runs per engine (the best is reported)")->capture_default_str()->check(CLI::Range(1, 1000));
     cmd->add_option("--kd-traversal-cost", args->kd.traversal_cost, "kd-tree SAH: cost of a traversal step")->capture_default_str();
     cmd->add_option("--kd-intersection-cost", args->kd.intersection_cost, "kd-tree SAH: cost of a triangle test")->capture_default_str();
@@ -76,7 +54,7 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--mlrta-min-tile", args->mlrta.min_tile, "mlrta: minimum tile size in pixels (MTS)")->capture_default_str();
     cmd->add_option("--mlrta-frustum", args->mlrta_frustum, "mlrta: entry-point culling, inverse | direct")->capture_default_str();
     cmd->add_option("--mlrta-ep-search", args->mlrta_ep_search, "mlrta: entry-point search order, top-down | bifurcation-stack (same entry points)")->capture_default_str();
-    cmd->add_flag("--triangle-culling", args->mlrta.triangle_culling, "kd16/mlrta: cull triangles whose box a packet cannot meet before testing them");
+    cmd->add_flag("--triangle-culling,!--no-triangle-culling", args->mlrta.triangle_culling, "kd16/mlrta: cull leaf triangles outside a one-origin packet's frustum before testing them (default on; --no-triangle-culling turns it off)");
     cmd->add_option("--vlf-dirs", args->vlf.directions, "vlf: beam directions l (2 m^2 + 1: 33, 129, 513, ...)")->capture_default_str();
     cmd->add_option("--vlf-tiles", args->vlf.tiles, "vlf: tiles per side n of each parallel subfield")->capture_default_str();
     cmd->add_option("--vlf-depth", args->vlf.depth, "vlf: tile-BSP depth d (0 = one leaf per tile)")->capture_default_str();
@@ -86,14 +64,7 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--json", args->json, "write the results as JSON to this file");
     cmd->add_option("--markdown", args->markdown, "write the table as Markdown to this file");
     return [args] {
-        workload::WorkloadConfig wc;
-        wc.scene = args->scene.scene;
-        if (!args->scene.camera.empty()) wc.camera = scenes::parse_camera(args->scene.camera, "--camera");
-        if (!args->light.empty()) wc.light = scenes::parse_point(args->light, "--light");
-        wc.mode = workload::parse_mode(args->mode);
-        wc.width = args->scene.width;
-        wc.height = args->scene.height;
-        wc.ao_rays = args->ao_rays;
+        workload::WorkloadConfig wc = workload_config(args->scene, args->rays);
         wc.ao_directions = workload::AoDirections{workload::parse_ao_directions(args->ao_dirs), args->vlf.directions};
         workload::BenchOptions bo;
         bo.engines = split_list(args->engines);

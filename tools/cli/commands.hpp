@@ -1,14 +1,19 @@
 #pragma once
 // The subcommands of the beamtrace command; each adds itself to the CLI11 app and runs when chosen.
 #include <functional>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
+
+#include "workload/workload.hpp"
 
 namespace beamtrace::cli {
 
 // Registers the subcommand; the returned function runs it after parsing (and may throw).
 std::function<void()> add_bench_command(CLI::App& app);
 std::function<void()> add_render_command(CLI::App& app);
+std::function<void()> add_trade_command(CLI::App& app);
 
 // Options both commands share: --scene, --camera, --width, --height, --threads.
 struct SceneOptions {
@@ -18,5 +23,20 @@ struct SceneOptions {
     int threads = 1;
 };
 void add_scene_options(CLI::App& command, SceneOptions& options);
+
+// "a,b,,c" -> {"a", "b", "c"}.
+std::vector<std::string> split_list(const std::string& text);
+// Writes a text file, creating its folder; throws beamtrace::Error if it cannot.
+void write_text(const std::string& path, const std::string& text);
+
+// Options of the rays bench and trade trace: --light, --mode, --ao-rays.
+struct RayOptions {
+    std::string light, mode = "primary";
+    int ao_rays = 16;
+};
+void add_ray_options(CLI::App& command, RayOptions& options);
+
+// The workload both describe (throws beamtrace::Error for a bad camera, light or mode).
+workload::WorkloadConfig workload_config(const SceneOptions& scene, const RayOptions& rays);
 
 }  // namespace beamtrace::cli

@@ -3,6 +3,9 @@
 // 1 anything unexpected.
 #include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "beamtrace/error.hpp"
 #include "cli/commands.hpp"
@@ -18,6 +21,41 @@ void add_scene_options(CLI::App& command, SceneOptions& o) {
     command.add_option("--threads", o.threads, "worker threads")->capture_default_str()->check(CLI::Range(1, 1024));
 }
 
+std::vector<std::string> split_list(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ','))
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+void write_text(const std::string& path, const std::string& text) {
+    const std::filesystem::path p(path);
+    if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
+    std::ofstream out(p);
+    out << text;
+    if (!out) throw Error("cannot write " + path);
+}
+
+void add_ray_options(CLI::App& command, RayOptions& o) {
+    command.add_option("--light", o.light, "X,Y,Z point light of shadow rays (default: halfway between camera and scene centre)");
+    command.add_option("--mode", o.mode, "primary | shadow | ao")->capture_default_str();
+    command.add_option("--ao-rays", o.ao_rays, "occlusion rays per pixel in ao mode")->capture_default_str()->check(CLI::Range(1, 4096));
+}
+
+workload::WorkloadConfig workload_config(const SceneOptions& scene, const RayOptions& rays) {
+    workload::WorkloadConfig wc;
+    wc.scene = scene.scene;
+    if (!scene.camera.empty()) wc.camera = scenes::parse_camera(scene.camera, "--camera");
+    if (!rays.light.empty()) wc.light = scenes::parse_point(rays.light, "--light");
+    wc.mode = workload::parse_mode(rays.mode);
+    wc.width = scene.width;
+    wc.height = scene.height;
+    wc.ao_rays = rays.ao_rays;
+    return wc;
+}
+
 }  // namespace beamtrace::cli
 
 int main(int argc, char** argv) {
@@ -25,6 +63,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     const auto bench = beamtrace::cli::add_bench_command(app);
     const auto render = beamtrace::cli::add_render_command(app);
+    const auto trade = beamtrace::cli::add_trade_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -37,6 +76,7 @@ int main(int argc, char** argv) {
     }
     try {
         if (app.got_subcommand("bench")) bench();
+        else if (app.got_subcommand("trade")) trade();
         else render();
         return 0;
     } catch (const beamtrace::Error& e) {

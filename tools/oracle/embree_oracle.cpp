@@ -3,6 +3,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -88,10 +89,21 @@ namespace {
 struct EmbreeSegment {
     Float3 org, dir;
     float tnear = 0.0f, tfar = 0.0f;
-    float shift = 0.0f;  // add to Embree's t to get the caller's t
+    float shift = 0.0f;    // caller's t = Embree's t / t_scale + shift
+    float t_scale = 1.0f;  // a power of two: the direction was divided by it, so Embree's t is multiplied
 };
 
+// Embree asserts (ray.valid()) that no origin or direction component exceeds FLT_LARGE = 1.844e18
+// in magnitude; larger values abort the process.
+constexpr float kEmbreeLargest = 1.844e18f;
+// Directions are scaled by a power of two to at most this (exact, t is scaled back).
+constexpr float kLargestDirection = 1.152921504606846976e18f;  // 2^60
+
 bool finite(Float3 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+float largest(Float3 p) { return std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}); }
+
+// The caller's t of a hit Embree reports at t.
+float caller_t(const EmbreeSegment& s, float t) { return t / s.t_scale + s.shift; }
 
 std::optional<EmbreeSegment> to_embree(const Ray& r) {
     if (!finite(r.org) || !finite(r.dir)) return std::nullopt;
@@ -106,6 +118,17 @@ std::optional<EmbreeSegment> to_embree(const Ray& r) {
         s.tnear = 0.0f;
         s.tfar = std::isinf(r.tfar) ? r.tfar : float(double(r.tfar) - tn);
         s.shift = r.tnear;
+    }
+    // Beyond Embree's range: an origin cannot be moved there without changing the ray, so such rays
+    // report no hit; a direction is scaled down by a power of two (t scaled up, exactly).
+    if (largest(s.org) > kEmbreeLargest) return std::nullopt;
+    if (largest(s.dir) > kLargestDirection) {
+        int exponent = 0;
+        std::frexp(largest(s.dir) / kLargestDirection, &exponent);
+        s.t_scale = std::ldexp(1.0f, exponent);
+        s.dir = s.dir * (1.0f / s.t_scale);
+        s.tnear = s.tnear * s.t_scale;
+        s.tfar = s.tfar * s.t_scale;
     }
     return s;
 }
@@ -218,7 +241,7 @@ Hit EmbreeOracle::intersect1(const Ray& ray) const {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(impl_->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return Hit{};
-    return Hit{rh.ray.tfar + s->shift, impl_->triangle_id(rh.hit.primID), rh.hit.u, rh.hit.v};
+    return Hit{caller_t(*s, rh.ray.tfar), impl_->triangle_id(rh.hit.primID), rh.hit.u, rh.hit.v};
 }
 
 bool EmbreeOracle::occluded1(const Ray& ray) const {
@@ -235,12 +258,12 @@ bool EmbreeOracle::occluded1(const Ray& ray) const {
 void EmbreeOracle::intersect16(const Packet16& packet, PacketHits16& hits) const {
     alignas(64) RTCRayHit16 rh;
     alignas(64) int valid[16];
-    float shift[16];
+    EmbreeSegment lane[16];
     for (int i = 0; i < 16; ++i) {
         std::optional<EmbreeSegment> s;
         if ((packet.active >> i) & 1u) s = to_embree(packet.ray(i));
         valid[i] = s ? -1 : 0;
-        shift[i] = s ? s->shift : 0.0f;
+        lane[i] = s ? *s : EmbreeSegment{};
         fill_lane(rh.ray, i, s ? *s : kIdleLane);
         rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
@@ -253,8 +276,8 @@ void EmbreeOracle::intersect16(const Packet16& packet, PacketHits16& hits) const
         if (valid[i] == 0 || rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
             hits.set_hit(i, Hit{});
         } else {
-            hits.set_hit(i, Hit{rh.ray.tfar[i] + shift[i], impl_->triangle_id(rh.hit.primID[i]), rh.hit.u[i],
-                                 rh.hit.v[i]});
+            hits.set_hit(i, Hit{caller_t(lane[i], rh.ray.tfar[i]), impl_->triangle_id(rh.hit.primID[i]),
+                                 rh.hit.u[i], rh.hit.v[i]});
         }
     }
 }

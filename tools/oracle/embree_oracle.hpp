@@ -12,6 +12,9 @@
 //    interval, verified by the tests), a NaN anywhere, an infinite origin or direction component, an
 //    infinite tnear, or a zero direction vector. (Such rays could also trip the assertions this
 //    Embree build is compiled with, so they are filtered out before Embree sees them.)
+//  - Embree asserts (and aborts) when an origin or direction component exceeds 1.844e18 in
+//    magnitude. A larger direction is divided by a power of two before Embree sees it (t scaled
+//    back exactly); a ray whose origin (after the tnear shift) lies beyond that reports no hit.
 //  - A direction with some zero components is fine: Embree's box test uses a safe reciprocal
 //    (zero components replaced by a tiny value), so axis-parallel rays work; the tests check them.
 //  - Hits exactly at tnear or tfar may be reported or not (Embree makes no promise there).

@@ -1,6 +1,8 @@
 #pragma once
 // One benchmark: every engine traces the workload's rays (best of N timed runs), is compared with
 // the oracle, and reports its statistics. Results go to a table and to the JSON of `beamtrace bench`.
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,12 +31,40 @@ struct BenchOptions {
     int threads = 1;
     int repeats = 3;
     EngineOptions engine_options;
-    bool progress = false;  // progress bars on stderr (only drawn on a terminal)
+    bool progress = false;        // progress bars on stderr (only drawn on a terminal)
+    std::string progress_label;   // the bars read "build LABEL", "trace LABEL" (default: the engine's name)
+};
+
+// An engine's answers to the workload's rays, per slot: hits (primary mode) or occlusion (1 =
+// occluded; shadow and ao modes). Inactive slots: no hit, not occluded.
+struct EngineAnswers {
+    std::vector<Hit> hits;
+    std::vector<std::uint8_t> occluded;
 };
 
 // Traces the workload's rays once with an engine already built for its scene and sorts every ray
 // against the oracle's answer.
 oracle::Tally check_against_oracle(const Engine& engine, const Workload& workload, int threads = 1);
+
+// Sorts each answer against the oracle's (see oracle/comparison.hpp). Occlusion rays that the oracle
+// finds occluded and the engine does not are classified with the oracle's closest hit on that ray
+// as the triangle hint when oracle_hints is set (one Embree query each), else by the search over
+// every triangle of the scene (what `beamtrace bench` does; slow for millions of triangles).
+oracle::Tally compare_with_oracle(const Workload& workload, const EngineAnswers& answers, bool oracle_hints = false);
+
+// One engine of a run: built, timed (possibly interleaved with others), then checked.
+struct TimedEngine {
+    std::unique_ptr<Engine> engine;
+    EngineResult result;    // result.seconds: the best timed pass so far
+    EngineAnswers answers;  // of the last pass
+};
+// Makes and builds the engine (progress bar "build LABEL"); throws for bad options or names.
+TimedEngine build_engine(const Workload& workload, const std::string& engine, const BenchOptions& options);
+// One timed pass over every ray; the best pass counts.
+void time_once(const Workload& workload, TimedEngine& run, int threads);
+// Mrays/s of the best pass, build seconds, memory and hits (read after tracing: engines that build
+// parts of their structure on first use, vlf, count them). Leaves the oracle counts and statistics.
+void summarize_timing(const Workload& workload, TimedEngine& run);
 
 // Builds, runs and checks one engine on the workload.
 EngineResult run_engine(const Workload& workload, const std::string& engine, const BenchOptions& options);

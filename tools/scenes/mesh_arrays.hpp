@@ -1,0 +1,16 @@
+#pragma once
+// A triangle mesh as plain arrays, what every file reader hands to the Scene constructor.
+#include <cstdint>
+#include <vector>
+
+#include "beamtrace/vec.hpp"
+
+namespace beamtrace::scenes {
+
+struct MeshArrays {
+    std::vector<Float3> vertices;
+    std::vector<std::uint32_t> indices;  // three per triangle
+    unsigned meshes = 1;                 // meshes of the file that gave triangles
+};
+
+}  // namespace beamtrace::scenes
