@@ -41,6 +41,12 @@ struct MlrtaSettings {
     // and shadow packets), decided 16 triangles at a time with SIMD before the 16-ray tests. Packets
     // with several origins are not culled per triangle. On by default (docs/mlrta.md has numbers).
     bool triangle_culling = true;
+    // In entry-point searches of beams with one origin, look at the triangles of a leaf: a leaf whose
+    // triangles all lie outside the beam's frustum has no potential intersection, and a leaf with a
+    // triangle that every ray of the beam hits inside the leaf ends the search there (termination
+    // (4) of the paper, first case). On by default; off leaves only the leaf-box test (2) and
+    // completely covered flat leaves.
+    bool ep_triangles = true;
     // Throws beamtrace::Error naming the bad setting.
     void validate() const;
 };
@@ -54,6 +60,7 @@ struct MlrtaCounters {
     std::uint64_t tiles = 0;            // tiles whose packets went to XP search (after splitting)
     std::uint64_t divergent_tiles = 0;  // tiles whose rays diverge in sign
     std::uint64_t single_rays = 0;      // rays with a zero direction component, traced alone
+    std::uint64_t blocked_tiles = 0;    // occlusion tiles one triangle blocks entirely (no XP search)
     MlrtaCounters& operator+=(const MlrtaCounters& o);
 };
 

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <xsimd/xsimd.hpp>
+
 #include "common/ray_validity.hpp"
 
 namespace beamtrace::mlrta {
@@ -33,62 +35,116 @@ void Beam::add(const Ray& ray) {
         if (ray.dir[k] == 0.0f || (positive(ray.dir[k]) ? 1 : -1) != sign[k]) coherent = false;
     }
     starts.extend(ray.org + ray.dir * ray.tnear);
+    if (first) {
+        one_origin = true;
+        origin = ray.org;
+    } else if (!(ray.org == origin)) {
+        one_origin = false;
+    }
     if (coherent) {
         for (int k = 0; k < 3; ++k)
             for (int j = 0; j < 3; ++j) extend(slope[k][j], j == k ? 1.0f : ray.dir[j] / ray.dir[k], first);
         const float scale = std::fabs(ray.dir[main_axis]);
         extend(length, (ray.tfar - ray.tnear) * scale, first);
+        extend(apex_near, ray.tnear * scale, first);
+        extend(apex_far, ray.tfar * scale, first);
     }
     empty = false;
     ++rays;
 }
 
+namespace {
+
+using Lanes = xsimd::batch<float, xsimd::sse4_2>;  // the library's baseline instruction set
+using LaneMask = xsimd::batch_bool<float, xsimd::sse4_2>;
+constexpr int kLanes = int(Lanes::size);
+
+// Running minimum and maximum over the selected lanes of 16 values.
+struct LaneRange {
+    Lanes lo = Lanes(kInfinity), hi = Lanes(-kInfinity);
+    void add(const LaneMask& on, const Lanes& v) {
+        lo = xsimd::min(lo, xsimd::select(on, v, Lanes(kInfinity)));
+        hi = xsimd::max(hi, xsimd::select(on, v, Lanes(-kInfinity)));
+    }
+    Interval interval() const {
+        alignas(16) float l[kLanes], h[kLanes];
+        lo.store_aligned(l);
+        hi.store_aligned(h);
+        Interval r{l[0], h[0]};
+        for (int i = 1; i < kLanes; ++i) r = {std::min(r.lo, l[i]), std::max(r.hi, h[i])};
+        return r;
+    }
+};
+
+std::uint32_t bits_of(const LaneMask& m) { return std::uint32_t(_mm_movemask_ps(m)); }
+
+LaneMask lanes_on(std::uint32_t four_bits) {
+    const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
+    return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(int(four_bits)), bit), bit));
+}
+
+}  // namespace
+
 void Beam::add(const Packet16& packet) {
-    // Per-component ranges of the active rays, then the slopes by interval division: looser than
-    // per-ray slopes but a few operations per ray (this runs for every packet of every tile).
-    // Rays that describe no segment are traced by nobody and must not widen (or poison) the beam.
+    // Per-component ranges of the active rays (SSE, 4 lanes at a time), then the slopes by interval
+    // division: looser than per-ray slopes but a few operations per ray (this runs for every
+    // packet of every tile). Rays that describe no segment are traced by nobody and must not widen
+    // (or poison) the beam: they are masked out, like inactive lanes.
     const std::uint32_t active = packet.active & 0xFFFFu & segment_lanes(packet);
     if (active == 0) return;
     const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
     const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
-    Interval d[3] = {}, s[3] = {};
-    float len_lo = kInfinity, len_hi = -kInfinity;
-    bool first = true, has_zero = false;
-    int negative[3] = {0, 0, 0};
+    const int lead = __builtin_ctz(active);
     const int main_axis_of_packet = main_of(packet, active);
-    for (std::uint32_t m = active; m; m &= m - 1) {
-        const int i = __builtin_ctz(m);
-        const float mag = std::fabs(dir[main_axis_of_packet][i]);
+    LaneRange d[3], s[3], len, near, far;
+    std::uint32_t negative[3] = {0, 0, 0}, zero = 0, same_origin = 0;
+    const Lanes lead_org[3] = {Lanes(org[0][lead]), Lanes(org[1][lead]), Lanes(org[2][lead])};
+    for (int base = 0; base < 16; base += kLanes) {
+        const LaneMask on = lanes_on((active >> base) & 0xFu);
+        const Lanes tnear = Lanes::load_unaligned(packet.tnear + base), tfar = Lanes::load_unaligned(packet.tfar + base);
+        LaneMask same = on;
         for (int k = 0; k < 3; ++k) {
-            const float v = dir[k][i], p = org[k][i] + v * packet.tnear[i];
-            has_zero = has_zero || v == 0.0f;
-            negative[k] += std::signbit(v) ? 1 : 0;
-            d[k] = first ? Interval{v, v} : Interval{std::min(d[k].lo, v), std::max(d[k].hi, v)};
-            s[k] = first ? Interval{p, p} : Interval{std::min(s[k].lo, p), std::max(s[k].hi, p)};
+            const Lanes v = Lanes::load_unaligned(dir[k] + base), o = Lanes::load_unaligned(org[k] + base);
+            zero |= bits_of(v == Lanes(0.0f)) << base;
+            negative[k] |= std::uint32_t(_mm_movemask_ps(v)) << base;  // sign bits
+            d[k].add(on, v);
+            s[k].add(on, o + v * tnear);
+            same = same & (o == lead_org[k]);
         }
-        const float len = (packet.tfar[i] - packet.tnear[i]) * mag;
-        len_lo = std::min(len_lo, len);
-        len_hi = std::max(len_hi, len);
-        first = false;
+        same_origin |= bits_of(same) << base;
+        const Lanes mag = xsimd::abs(Lanes::load_unaligned(dir[main_axis_of_packet] + base));
+        len.add(on, (tfar - tnear) * mag);
+        near.add(on, tnear * mag);
+        far.add(on, tfar * mag);
     }
     Beam b;
     b.empty = false;
     b.rays = std::uint32_t(__builtin_popcount(active));
     b.main_axis = main_axis_of_packet;
-    b.starts.lower = Float3{s[0].lo, s[1].lo, s[2].lo};
-    b.starts.upper = Float3{s[0].hi, s[1].hi, s[2].hi};
-    b.length = {len_lo, len_hi};
-    b.pad = pad;
-    const int n = int(b.rays);
-    b.coherent = !has_zero;
+    Interval start[3], dir_range[3];
     for (int k = 0; k < 3; ++k) {
-        if (negative[k] != 0 && negative[k] != n) b.coherent = false;
-        b.sign[k] = negative[k] == n ? -1 : 1;
+        start[k] = s[k].interval();
+        dir_range[k] = d[k].interval();
+    }
+    b.starts.lower = Float3{start[0].lo, start[1].lo, start[2].lo};
+    b.starts.upper = Float3{start[0].hi, start[1].hi, start[2].hi};
+    b.length = len.interval();
+    b.one_origin = (same_origin & active) == active;
+    b.origin = Float3{org[0][lead], org[1][lead], org[2][lead]};
+    b.apex_near = near.interval();
+    b.apex_far = far.interval();
+    b.pad = pad;
+    b.coherent = (zero & active) == 0;
+    for (int k = 0; k < 3; ++k) {
+        const std::uint32_t neg = negative[k] & active;
+        if (neg != 0 && neg != active) b.coherent = false;
+        b.sign[k] = neg == active ? -1 : 1;
     }
     if (b.coherent) {
         for (int k = 0; k < 3; ++k) {
-            const Interval inv = {1.0f / d[k].hi, 1.0f / d[k].lo};  // d[k] has one sign
-            for (int j = 0; j < 3; ++j) b.slope[k][j] = j == k ? Interval{1.0f, 1.0f} : widen(d[j] * inv, 0.0f);
+            const Interval inv = {1.0f / dir_range[k].hi, 1.0f / dir_range[k].lo};  // one sign
+            for (int j = 0; j < 3; ++j)
+                b.slope[k][j] = j == k ? Interval{1.0f, 1.0f} : widen(dir_range[j] * inv, 0.0f);
         }
     }
     merge(b);
@@ -111,18 +167,23 @@ void Beam::merge(const Beam& o) {
         if (o.sign[k] != sign[k]) coherent = false;
     coherent = coherent && o.coherent;
     starts.extend(o.starts);
+    one_origin = one_origin && o.one_origin && o.origin == origin;
     if (coherent) {
         // The other beam measures its lengths along its own main axis: convert them to ours with
         // |dir_main / dir_other_main|, the absolute value of its slope range (one sign, non-zero).
-        Interval other_length = o.length;
+        Interval other_length = o.length, other_near = o.apex_near, other_far = o.apex_far;
         if (o.main_axis != main_axis) {
             const Interval s = o.slope[o.main_axis][main_axis];
             const Interval ratio = s.lo > 0.0f ? s : Interval{-s.hi, -s.lo};
             other_length = widen(o.length * ratio, 0.0f);
+            other_near = widen(o.apex_near * ratio, 0.0f);
+            other_far = widen(o.apex_far * ratio, 0.0f);
         }
         for (int k = 0; k < 3; ++k)
             for (int j = 0; j < 3; ++j) slope[k][j] = hull(slope[k][j], o.slope[k][j]);
         length = hull(length, other_length);
+        apex_near = hull(apex_near, other_near);
+        apex_far = hull(apex_far, other_far);
     }
     pad = std::max(pad, o.pad);
     rays += o.rays;

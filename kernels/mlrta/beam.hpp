@@ -22,6 +22,13 @@ struct Beam {
     bool coherent = false;      // every ray has all three direction components non-zero, one sign per axis
     bool empty = true;          // no ray yet
     std::uint32_t rays = 0;
+    // The apex: when every ray has the same origin (bit for bit: a camera, a point light), that
+    // origin, and the ranges of tnear * |dir_main| and tfar * |dir_main| (the distances along the
+    // main axis from the apex to the rays' starts and ends). Used to cull and to block with
+    // triangles (beam_triangles.hpp); the inverse culling only needs `starts`.
+    bool one_origin = false;
+    Float3 origin;
+    Interval apex_near = {0, 0}, apex_far = {0, 0};
 
     // Adds one ray (a zero direction component or a sign disagreement makes the beam incoherent).
     void add(const Ray& ray);

@@ -1,5 +1,8 @@
 #include "mlrta/entry_point_search.hpp"
 
+#include <algorithm>
+
+#include "mlrta/beam_triangles.hpp"
 #include "mlrta/direct_frustum_cull.hpp"
 #include "mlrta/inverse_frustum_cull.hpp"
 
@@ -25,6 +28,13 @@ public:
     Search(const Mlrta::Impl& m, const Beam& beam, std::uint64_t& steps)
         : m_(m), kd_(m.kd()), beam_(beam), steps_(steps) {
         if (m.settings.frustum_test == FrustumTest::direct) frustum_ = make_frustum(beam);
+        if (m.settings.ep_triangles) triangles_ = beam_frustum(beam);
+    }
+
+    // A blocker known from the parent tile (whose beam holds this one) blocks this beam as well:
+    // it bounds the search from the start.
+    void inherit(const EntryPoint& start) {
+        if (start.blocked() && triangles_.valid) try_blocker(start.blocker, start.box);
     }
 
     // Children of an inner node the beam may enter, near child first.
@@ -50,27 +60,44 @@ public:
         return count;
     }
 
+    // A leaf with triangles whose box the beam may meet and, for a beam with one origin, with at
+    // least one triangle inside the beam's frustum.
     bool potential_leaf(const NodeBox& n) const {
         const KdNode& node = kd_.nodes[n.node];
-        if (node.triangle_count() == 0) return false;
-        return frustum_.valid ? !frustum_misses_box(frustum_, n.box) : !beam_misses_box(beam_, n.box);
+        const std::uint32_t count = node.triangle_count();
+        if (count == 0) return false;
+        if (frustum_.valid ? frustum_misses_box(frustum_, n.box) : beam_misses_box(beam_, n.box)) return false;
+        if (!triangles_.valid) return true;
+        const std::uint32_t* ids = kd_.triangle_ids.data() + node.offset();
+        const Triangle* tris = kd_.scene.triangles().data();
+        for (std::uint32_t j = 0; j < count; j += 16) {
+            const int batch = int(std::min<std::uint32_t>(16, count - j));
+            const std::uint32_t all = batch == 16 ? 0xFFFFu : (1u << batch) - 1u;
+            if (m_.frustum_cull(triangles_, tris, ids + j, batch) != all) return true;
+        }
+        return false;
     }
 
-    // Every ray of the beam crosses this flat, completely covered leaf within its segment.
-    bool all_rays_end_in(const NodeBox& n) const {
-        if (!m_.covered_leaf[n.node]) return false;
-        int k = 0;
-        while (k < 3 && n.box.lower[k] != n.box.upper[k]) ++k;
-        if (k == 3) return false;
-        const float plane = n.box.lower[k];
-        for (int j = 0; j < 3; ++j) {
-            if (j == k) continue;
-            const Interval r = beam_.plane_range(k, plane, j);
-            if (r.lo < n.box.lower[j] || r.hi > n.box.upper[j]) return false;
+    // Looks at a potential leaf the search has reached: a triangle of it that every ray of the beam
+    // hits within its segment bounds the search (nothing beyond its hits can be a closest hit, and
+    // every ray is occluded). True when every ray ends in this leaf: such a triangle's hits all lie
+    // inside it (termination (4) of the paper, first case), or the leaf is flat, completely covered
+    // by its triangles and crossed by every ray within its segment.
+    bool examine(const NodeBox& leaf) {
+        if (triangles_.valid) {
+            const KdNode& node = kd_.nodes[leaf.node];
+            const std::uint32_t count = node.triangle_count();
+            if (count <= kMaxBlockingCandidates) {
+                const std::uint32_t* ids = kd_.triangle_ids.data() + node.offset();
+                const std::uint32_t culled = m_.frustum_cull(triangles_, kd_.scene.triangles().data(), ids, int(count));
+                for (std::uint32_t j = 0; j < count; ++j)
+                    if (!((culled >> j) & 1u) && try_blocker(ids[j], leaf.box)) return true;
+            }
         }
-        const Interval t = beam_.plane_t(k, plane);
-        return t.lo >= 0.0f && t.hi <= beam_.length.lo;
+        return covered_flat_leaf_ends_all(leaf);
     }
+
+    std::uint32_t blocker() const { return blocker_; }
 
     // Depth first (near child first) below `root`: the first leaf with potential intersections, if any.
     bool first_potential_leaf(const NodeBox& root, NodeBox& leaf) {
@@ -94,12 +121,6 @@ public:
         return false;
     }
 
-    // Depth first below `root`: is there any leaf with potential intersections?
-    bool any_potential_leaf(const NodeBox& root) {
-        NodeBox leaf;
-        return first_potential_leaf(root, leaf);
-    }
-
     // Steps 1-3 of the paper with the bifurcation stack, in the paper's order.
     EntryPoint run_bifurcation_stack(const EntryPoint& start) {
         Bifurcation bif[kStackSize];
@@ -115,7 +136,7 @@ public:
                 if (potential_leaf(n)) {
                     candidate = n;
                     found = true;
-                    if (all_rays_end_in(n)) return EntryPoint{n.node, n.box, false};
+                    if (examine(n)) return entry(n);
                     break;
                 }
             } else {
@@ -131,79 +152,124 @@ public:
             if (top == 0) break;
             n = bif[--top].other;
         }
-        if (!found) {
-            EntryPoint none = start;
-            none.misses = true;
-            return none;
-        }
+        if (!found) return none(start);
         // Steps 2-3: the stacked nodes from the top; a potential leaf in the other subtree makes the
         // node the candidate.
         while (top > 0) {
             const Bifurcation& b = bif[--top];
-            if (any_potential_leaf(b.other)) candidate = b.node;
+            NodeBox leaf;
+            if (first_potential_leaf(b.other, leaf)) {
+                candidate = b.node;
+                if (!blocked()) examine(leaf);
+            }
         }
-        return EntryPoint{candidate.node, candidate.box, false};
+        return entry(candidate);
     }
 
-    // The paper's steps 1-3 find the first potential leaf L depth first, stack the bifurcations on
-    // the way, and then pop them deepest first, each becoming the candidate when its other subtree
-    // holds a potential leaf: the result is the *shallowest* stacked node with potential leaves on
-    // both sides, or L. This walk finds the same node top down, so it can stop at the first such
-    // node instead of searching below every deeper one: from the start, follow single children;
-    // at a node with two possible children, search the near one for a potential leaf (the first
-    // one found overall is L, where termination (4) is checked), then the far one; both: that node
-    // is the entry point; one: continue into it; none: the beam misses everything.
+    // The same entry point with fewer steps. The paper's steps 1-3 find the first potential leaf L
+    // depth first, stack the bifurcations on the way, and then pop them deepest first, each
+    // becoming the candidate when its other subtree holds a potential leaf: the result is the
+    // *shallowest* stacked node with a potential leaf on its other side, or L. This walk finds L
+    // the same way (step 1), then checks the stacked nodes shallowest first and stops at the first
+    // whose other subtree holds a potential leaf: the deeper ones need no search. Termination (4)
+    // is checked at L; a blocker found at L shortens the beam, so the other subtrees beyond it are
+    // culled at their roots.
     EntryPoint run_top_down(const EntryPoint& start) {
+        Bifurcation bif[kStackSize];
+        int top = 0;
         NodeBox n{start.node, start.box};
-        bool first_leaf_seen = false;
-        auto at_first_leaf = [&](const NodeBox& leaf) {
-            const bool ends = !first_leaf_seen && all_rays_end_in(leaf);
-            first_leaf_seen = true;
-            return ends;
-        };
-        for (;;) {
+        for (;;) {  // step 1
             ++steps_;
             if (kd_.nodes[n.node].is_leaf()) {
-                if (!potential_leaf(n)) break;
-                at_first_leaf(n);
-                return EntryPoint{n.node, n.box, false};
+                if (potential_leaf(n)) break;
+            } else {
+                NodeBox kids[2];
+                const int c = children(n, kids);
+                if (c == 2) bif[top++] = Bifurcation{n, kids[1]};
+                if (c > 0) {
+                    n = kids[0];
+                    continue;
+                }
             }
-            NodeBox kids[2];
-            const int c = children(n, kids);
-            if (c == 0) break;
-            if (c == 1) {
-                n = kids[0];
-                continue;
-            }
-            NodeBox leaf;
-            if (!first_potential_leaf(kids[0], leaf)) {
-                n = kids[1];
-                continue;
-            }
-            if (at_first_leaf(leaf)) return EntryPoint{leaf.node, leaf.box, false};
-            if (!first_potential_leaf(kids[1], leaf)) {
-                n = kids[0];
-                continue;
-            }
-            return EntryPoint{n.node, n.box, false};
+            // A dead end: the last bifurcation had nothing in its near subtree; it is no longer one.
+            if (top == 0) return none(start);
+            n = bif[--top].other;
         }
-        EntryPoint none = start;
-        none.misses = true;
-        return none;
+        if (examine(n)) return entry(n);
+        for (int i = 0; i < top; ++i) {  // the bifurcations on L's path, shallowest first
+            NodeBox leaf;
+            if (first_potential_leaf(bif[i].other, leaf)) {
+                if (!blocked()) examine(leaf);
+                return entry(bif[i].node);
+            }
+        }
+        return entry(n);
     }
 
 private:
+    bool blocked() const { return blocker_ != kNoHit; }
+
+    EntryPoint entry(const NodeBox& n) const {
+        EntryPoint e{n.node, n.box, false};
+        e.blocker = blocker_;
+        return e;
+    }
+    EntryPoint none(const EntryPoint& start) const {
+        EntryPoint e = start;
+        e.misses = true;
+        e.blocker = kNoHit;
+        return e;
+    }
+
+    // Does triangle `id` block the beam? If so, and nearer than the blocker known so far, it becomes
+    // the blocker and the beam's segments are cut at its farthest hit. True when its hits all lie
+    // inside `cell`.
+    bool try_blocker(std::uint32_t id, const Box& cell) {
+        const BeamBlock b = beam_block(beam_, triangles_, kd_.scene.triangle(id), cell);
+        if (!b.blocks) return false;
+        if (!blocked() || b.far < blocker_far_) {
+            blocker_ = id;
+            blocker_far_ = b.far;
+            // Lengths are measured from the starts; the cut keeps a relative margin and rounds up.
+            const double cut = (b.far - double(beam_.apex_near.lo)) * (1.0 + 1e-5);
+            const float length = std::nextafter(float(cut), kInfinity);
+            if (length < beam_.length.hi) beam_.length = {std::min(beam_.length.lo, length), length};
+        }
+        return b.inside;
+    }
+
+    bool covered_flat_leaf_ends_all(const NodeBox& n) const {
+        if (!m_.covered_leaf[n.node]) return false;
+        int k = 0;
+        while (k < 3 && n.box.lower[k] != n.box.upper[k]) ++k;
+        if (k == 3) return false;
+        const float plane = n.box.lower[k];
+        for (int j = 0; j < 3; ++j) {
+            if (j == k) continue;
+            const Interval r = beam_.plane_range(k, plane, j);
+            if (r.lo < n.box.lower[j] || r.hi > n.box.upper[j]) return false;
+        }
+        const Interval t = beam_.plane_t(k, plane);
+        return t.lo >= 0.0f && t.hi <= beam_.length.lo;
+    }
+
     const Mlrta::Impl& m_;
     const KdTree::Impl& kd_;
-    const Beam& beam_;
+    Beam beam_;  // a copy: a blocker shortens its segments
     std::uint64_t& steps_;
     Frustum4 frustum_;
+    PacketFrustum triangles_;  // valid for beams with one origin when settings.ep_triangles
+    std::uint32_t blocker_ = kNoHit;
+    double blocker_far_ = 0.0;
+    // Leaves with more triangles are not searched for one that blocks the beam (a cost bound).
+    static constexpr std::uint32_t kMaxBlockingCandidates = 16;
 };
 
 }  // namespace
 
 EntryPoint entry_point_search(const Mlrta::Impl& m, const Beam& beam, const EntryPoint& start, std::uint64_t& steps) {
     Search search(m, beam, steps);
+    search.inherit(start);
     return m.settings.ep_search == EpSearch::bifurcation_stack ? search.run_bifurcation_stack(start)
                                                                : search.run_top_down(start);
 }

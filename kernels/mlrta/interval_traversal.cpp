@@ -15,6 +15,11 @@ namespace {
 
 constexpr int kStackSize = 64;
 constexpr int kMailboxSize = 64;
+// Leaves with at most this many triangles test them without frustum culling: deciding a batch
+// costs about as much as a few packet tests, and the triangles of small leaves (walls, large
+// faces) are seldom outside a packet's frustum (room, 1024x1024: 9.76 -> 9.87 tests per packet,
+// about 6% less time).
+constexpr std::uint32_t kMinCulledLeaf = 4;
 
 // The packet's bounds used to derive every plane interval: origins and reciprocal directions per
 // axis over the active lanes.
@@ -189,14 +194,15 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
         if (count > 0 && !packet_misses_box(pb, box, c0, reach)) {
             const std::uint32_t* leaf = ids + node.offset();
             std::uint32_t culled = 0;  // bit j % 16: the packet's frustum misses leaf[j]
+            const bool cull = frustum.valid && count > kMinCulledLeaf;
             for (std::uint32_t j = 0; j < count; ++j) {
-                if (frustum.valid && j % 16 == 0)  // the next 16 triangles decided at once (SIMD)
+                if (cull && j % 16 == 0)  // the next 16 triangles decided at once (SIMD)
                     culled = m.frustum_cull(frustum, tris, leaf + j, int(std::min<std::uint32_t>(16, count - j)));
                 const std::uint32_t id = leaf[j];
                 std::uint32_t& slot = mailbox[id % kMailboxSize];
                 if (slot == id) continue;  // already tested for every lane: the result cannot change
                 const Triangle& tri = tris[id];
-                if (frustum.valid) {
+                if (cull) {
                     if ((culled >> (j % 16)) & 1u) {
                         slot = id;  // the frustum is the packet's: the triangle stays culled
                         continue;

@@ -19,6 +19,9 @@ inline ChildMask cull_split(const Beam& beam, const Box& cell, int k, float spli
     if (sk < 0 && beam.starts.upper[k] < split) return kLower;
     if (sk > 0 && beam.starts.lower[k] > split) return kUpper;
     bool near_possible = true, far_possible = true;
+    // Every ray ends before it reaches the plane: the far side is out of reach (not in the paper's
+    // figure; the leaf test (2) makes the same use of the segments' lengths).
+    if (beam.plane_t(k, split).lo > beam.length.hi) far_possible = false;
     for (int j = 0; j < 3; ++j) {
         if (j == k) continue;
         const Interval r = beam.plane_range(k, split, j);

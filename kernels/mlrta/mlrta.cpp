@@ -28,6 +28,7 @@ MlrtaCounters& MlrtaCounters::operator+=(const MlrtaCounters& o) {
     tiles += o.tiles;
     divergent_tiles += o.divergent_tiles;
     single_rays += o.single_rays;
+    blocked_tiles += o.blocked_tiles;
     return *this;
 }
 

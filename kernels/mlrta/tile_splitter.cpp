@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "common/ray_validity.hpp"
 #include "mlrta/entry_point_search.hpp"
 #include "mlrta/interval_traversal.hpp"
 
@@ -14,6 +15,9 @@ TileSplitter<kOcclusion, kCount>::TileSplitter(const Mlrta::Impl& m, const Packe
     : m_(m), grid_(grid), hits_(hits), occluded_(occluded), counters_(counters), observer_(observer) {
     tile_side_ = std::max(1, m.settings.initial_tile / 4);
     beams_.resize(std::size_t(tile_side_) * std::size_t(tile_side_));
+    Beam scale;
+    scale.set_scene_scale(m.kd().bounds);
+    pad_ = scale.pad;
 }
 
 template <bool kOcclusion, bool kCount>
@@ -30,7 +34,7 @@ void TileSplitter<kOcclusion, kCount>::trace_initial_tile(int x0, int y0) {
         for (int x = x0; x < x1; ++x) {
             Beam& b = beams_[std::size_t(y - y0) * std::size_t(tile_side_) + std::size_t(x - x0)];
             b = Beam{};
-            b.set_scene_scale(m_.kd().bounds);
+            b.pad = pad_;
             b.add(grid_.packets[std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x)]);
         }
     trace_tile(x0, y0, x1, y1, root_entry(m_));
@@ -39,7 +43,7 @@ void TileSplitter<kOcclusion, kCount>::trace_initial_tile(int x0, int y0) {
 template <bool kOcclusion, bool kCount>
 void TileSplitter<kOcclusion, kCount>::trace_tile(int x0, int y0, int x1, int y1, const EntryPoint& ep) {
     Beam beam;
-    beam.set_scene_scale(m_.kd().bounds);
+    beam.pad = pad_;
     for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) beam.merge(packet_beam(x, y));
     if (beam.empty) {
@@ -65,6 +69,12 @@ void TileSplitter<kOcclusion, kCount>::trace_tile(int x0, int y0, int x1, int y1
         // no progress: a tile whose entry point is its parent's rarely has parts that do better,
         // and their searches would cost more than they save.
         const bool stuck = found.node == ep.node && m_.settings.stop_when_stuck;
+        if constexpr (kOcclusion) {
+            if (found.blocked()) {  // one triangle occludes every ray of the tile
+                occlude_all(x0, y0, x1, y1);
+                return;
+            }
+        }
         if (found.misses || small || stuck || m_.kd().nodes[found.node].is_leaf()) {
             trace_packets(x0, y0, x1, y1, found, false);
             return;
@@ -77,6 +87,21 @@ void TileSplitter<kOcclusion, kCount>::trace_tile(int x0, int y0, int x1, int y1
             const int sx0 = x0 + w * i / parts, sx1 = x0 + w * (i + 1) / parts;
             const int sy0 = y0 + h * j / parts, sy1 = y0 + h * (j + 1) / parts;
             if (sx1 > sx0 && sy1 > sy0) trace_tile(sx0, sy0, sx1, sy1, found);
+        }
+}
+
+template <bool kOcclusion, bool kCount>
+void TileSplitter<kOcclusion, kCount>::occlude_all(int x0, int y0, int x1, int y1) {
+    if constexpr (kCount) {
+        ++counters_->tiles;
+        ++counters_->blocked_tiles;
+    }
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x);
+            // The lanes the tile's beam was made of (Beam::add): every one of them is blocked.
+            occluded_[p] = grid_.packets[p].active & 0xFFFFu & segment_lanes(grid_.packets[p]);
+            if constexpr (kCount) ++counters_->packets;
         }
 }
 

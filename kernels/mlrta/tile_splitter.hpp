@@ -27,6 +27,8 @@ public:
 private:
     void trace_tile(int x0, int y0, int x1, int y1, const EntryPoint& ep);
     void trace_packets(int x0, int y0, int x1, int y1, const EntryPoint& ep, bool divergent);
+    // Occlusion: a triangle blocks every ray of the tile (the entry-point search proved it).
+    void occlude_all(int x0, int y0, int x1, int y1);
     const Beam& packet_beam(int x, int y) const;
 
     const Mlrta::Impl& m_;
@@ -36,6 +38,7 @@ private:
     MlrtaCounters* counters_;
     const TileObserver* observer_;
     int tile_x0_ = 0, tile_y0_ = 0, tile_side_ = 0;
+    float pad_ = 0.0f;  // Beam::pad for the tree's scene (set_scene_scale, computed once)
     std::vector<Beam> beams_;  // of the packets of the current initial tile
 };
 

@@ -1,11 +1,14 @@
-// Entry-point search on trees built by KdTree::build, with random beams: every leaf holding triangles
-// that some ray segment of the beam really passes through (exact double-precision slab test) lies in
-// the entry point's subtree, a beam marked `misses` passes through no such leaf, and the paper's order
-// (bifurcation stack) and the top-down walk return the same node.
+// Entry-point search on trees built by KdTree::build, with random beams. With the paper's tests only
+// (leaf boxes): every leaf holding triangles that some ray segment of the beam really passes through
+// (exact double-precision slab test) lies in the entry point's subtree, a beam marked `misses` passes
+// through no such leaf, and the paper's order (bifurcation stack) and the top-down walk return the
+// same node. With triangle culling and blockers (the default): every ray's closest hit lies in a leaf
+// of the entry point's subtree, `misses` beams have no hit, and a blocker is hit by every ray.
 #include <gtest/gtest.h>
 
 #include "hand_tree.hpp"
 #include "mlrta/entry_point_search.hpp"
+#include "common/triangle_reference.hpp"
 #include "mlrta/interval_traversal.hpp"
 
 using namespace beamtrace;
@@ -58,11 +61,31 @@ std::vector<Ray> random_beam_rays(Rng& rng, const Box& b) {
     return rays;
 }
 
-MlrtaSettings settings(EpSearch order, FrustumTest test) {
+MlrtaSettings settings(EpSearch order, FrustumTest test, bool ep_triangles = false) {
     MlrtaSettings s;
     s.ep_search = order;
     s.frustum_test = test;
+    s.ep_triangles = ep_triangles;
     return s;
+}
+
+// A leaf below `node` holds triangle `id` and its box, grown by the rounding of a float hit
+// distance (`scale`: the size of the coordinates involved), holds point p.
+bool hit_below(const KdTree::Impl& kd, const std::vector<Leaf>& leaves, std::uint32_t first, std::uint32_t end,
+               std::uint32_t id, const double p[3], double scale) {
+    for (const Leaf& leaf : leaves) {
+        if (leaf.node < first || leaf.node >= end) continue;
+        bool inside = true;
+        for (int k = 0; k < 3; ++k) {
+            const double slack = 1e-5 * scale;
+            inside = inside && p[k] >= leaf.box.lower[k] - slack && p[k] <= leaf.box.upper[k] + slack;
+        }
+        if (!inside) continue;
+        const KdNode& node = kd.nodes[leaf.node];
+        for (std::uint32_t j = 0; j < node.triangle_count(); ++j)
+            if (kd.triangle_ids[node.offset() + j] == id) return true;
+    }
+    return false;
 }
 
 }  // namespace
@@ -111,6 +134,50 @@ TEST(MlrtaEntryPointProperty, EveryLeafARayPassesLiesBelowTheEntryPoint) {
             EXPECT_GT(below_root, 100) << "order " << int(order) << " direct " << int(test);
             EXPECT_GT(misses, 20) << "order " << int(order) << " direct " << int(test);
         }
+}
+
+TEST(MlrtaEntryPointProperty, EveryClosestHitLiesBelowTheEntryPoint) {
+    // Triangle culling and blockers (the default): leaves the rays pass may lie outside the entry
+    // point's subtree, but never the one where a ray finds its closest hit.
+    for (const Scene& scene : {random_soup(3000, 71), box_room(30, 72)}) {
+        const KdTree tree = KdTree::build(scene);
+        const std::vector<Leaf> leaves = nonempty_leaves(tree.impl());
+        Rng rng(73);
+        for (EpSearch order : {EpSearch::bifurcation_stack, EpSearch::top_down}) {
+            const auto m = make_mlrta(tree, settings(order, FrustumTest::inverse, true));
+            int below_root = 0, blocked = 0, hits = 0;
+            for (int n = 0; n < 1500; ++n) {
+                const std::vector<Ray> rays = random_beam_rays(rng, tree.impl().bounds);
+                const Beam beam = beam_of(rays, &tree.impl().bounds);
+                std::uint64_t steps = 0;
+                const EntryPoint ep = entry_point_search(*m, beam, root_entry(*m), steps);
+                const std::uint32_t first = ep.node, end = ep.node + m->subtree_nodes[ep.node];
+                below_root += ep.node != 0 && !ep.misses;
+                blocked += ep.blocked();
+                for (const Ray& r : rays) {
+                    const Hit h = intersect_brute_force(scene, r);
+                    if (ep.blocked()) {
+                        TriangleHit th;
+                        ASSERT_TRUE(intersect_triangle(make_watertight_ray(r), scene.triangle(ep.blocker), th))
+                            << "beam " << n << ": a ray misses the blocker " << ep.blocker;
+                        ASSERT_TRUE(th.t >= r.tnear && th.t <= r.tfar) << "beam " << n;
+                    }
+                    if (!h.hit()) continue;
+                    ++hits;
+                    ASSERT_FALSE(ep.misses) << "beam " << n << " has a hit on triangle " << h.triangle;
+                    const double p[3] = {double(r.org.x) + double(r.dir.x) * h.t, double(r.org.y) + double(r.dir.y) * h.t,
+                                         double(r.org.z) + double(r.dir.z) * h.t};
+                    const double scale = 1.0 + length(r.org) + length(r.dir) * double(h.t);
+                    ASSERT_TRUE(hit_below(tree.impl(), leaves, first, end, h.triangle, p, scale))
+                        << "beam " << n << ": the closest hit on " << h.triangle << " is outside the subtree of "
+                        << ep.node << " (order " << int(order) << ")";
+                }
+            }
+            EXPECT_GT(below_root, 100) << "order " << int(order);
+            EXPECT_GT(blocked, 20) << "order " << int(order);
+            EXPECT_GT(hits, 1000) << "order " << int(order);
+        }
+    }
 }
 
 TEST(MlrtaEntryPointProperty, BothOrdersFindTheSameEntryPoint) {

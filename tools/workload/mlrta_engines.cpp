@@ -21,7 +21,8 @@ nlohmann::json counters_json(const MlrtaCounters& c) {
             {"packets", c.packets},
             {"tiles", c.tiles},
             {"divergent_tiles", c.divergent_tiles},
-            {"single_rays", c.single_rays}};
+            {"single_rays", c.single_rays},
+            {"blocked_tiles", c.blocked_tiles}};
 }
 
 // How far (in double) the reversed ray's far end lies from the original segment's start: the
