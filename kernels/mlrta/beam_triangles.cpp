@@ -23,6 +23,7 @@ PacketFrustum beam_frustum(const Beam& beam) {
         const float spread = (f.slope[j].hi - f.slope[j].lo) + std::fabs(f.slope[j].lo) + std::fabs(f.slope[j].hi);
         f.slope[j] = {f.slope[j].lo - spread * 1e-4f - 1e-6f, f.slope[j].hi + spread * 1e-4f + 1e-6f};
     }
+    f.reach = beam.apex_far.hi * (1.0f + 1.0f / 65536.0f);
     f.valid = std::isfinite(f.slope[f.j0].lo) && std::isfinite(f.slope[f.j0].hi) && std::isfinite(f.slope[f.j1].lo) &&
               std::isfinite(f.slope[f.j1].hi);
     return f;

@@ -146,6 +146,7 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
     if (m.settings.triangle_culling) frustum = make_packet_frustum(packet, mask);
     WatertightPacket16 wp = make_watertight_packet(packet);
     wp.active = mask;
+    const LaneSlabs slabs = make_lane_slabs(packet, pb.pad);
     const TriangleKernels& kernels = *kd.kernels;
     const KdNode* nodes = kd.nodes.data();
     const std::uint32_t* ids = kd.triangle_ids.data();
@@ -191,7 +192,9 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
             continue;
         }
         const std::uint32_t count = node.triangle_count();
-        if (count > 0 && !packet_misses_box(pb, box, c0, reach)) {
+        // The leaf box against the packet's interval bounds (test (2)), then against each active
+        // ray's current segment.
+        if (count > 0 && !packet_misses_box(pb, box, c0, reach) && m.lane_box(slabs, wp.tfar, wp.active, box) != 0) {
             const std::uint32_t* leaf = ids + node.offset();
             std::uint32_t culled = 0;  // bit j % 16: the packet's frustum misses leaf[j]
             const bool cull = frustum.valid && count > kMinCulledLeaf;

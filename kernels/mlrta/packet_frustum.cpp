@@ -35,9 +35,11 @@ PacketFrustum make_packet_frustum(const Packet16& packet, std::uint32_t mask) {
     f.sm = std::signbit(dir[f.m][first]) ? -1.0f : 1.0f;
     f.origin = Float3{org[0][first], org[1][first], org[2][first]};
     for (int j = 0; j < 3; ++j) f.slope[j] = {kInfinity, -kInfinity};
+    float reach = 0.0f;
     for (std::uint32_t b = mask; b; b &= b - 1) {
         const int i = __builtin_ctz(b);
         const float dm = std::fabs(dir[f.m][i]);
+        reach = std::max(reach, packet.tfar[i] * dm);
         for (int j = 0; j < 3; ++j) {
             const float q = dir[j][i] / dm;
             f.slope[j] = {std::min(f.slope[j].lo, q), std::max(f.slope[j].hi, q)};
@@ -48,6 +50,7 @@ PacketFrustum make_packet_frustum(const Packet16& packet, std::uint32_t mask) {
         const float spread = (f.slope[j].hi - f.slope[j].lo) + std::fabs(f.slope[j].lo) + std::fabs(f.slope[j].hi);
         f.slope[j] = {f.slope[j].lo - spread * 1e-4f - 1e-6f, f.slope[j].hi + spread * 1e-4f + 1e-6f};
     }
+    f.reach = reach * (1.0f + 1.0f / 65536.0f);  // the product's rounding, generously
     f.valid = std::isfinite(f.slope[f.j0].lo) && std::isfinite(f.slope[f.j0].hi) && std::isfinite(f.slope[f.j1].lo) &&
               std::isfinite(f.slope[f.j1].hi);
     return f;

@@ -3,7 +3,7 @@
 // leaf box): the range of every slope dir_j / |dir_m| over the packet (m the main axis), widened.
 // A triangle lies outside the frustum when all three corners are in front of the origin and beyond
 // the same side of one slope range. `misses` is the scalar reference; the SIMD kernels
-// (packet_frustum_<isa>.cpp) decide up to 16 triangles at once with the same operations in the
+// (mlrta_simd_<isa>.cpp) decide up to 16 triangles at once with the same operations in the
 // same order, so their decisions are the reference's, bit for bit.
 #include <cmath>
 #include <cstdint>
@@ -22,19 +22,28 @@ struct PacketFrustum {
     float sm = 1.0f;    // sign of the rays' main component
     Float3 origin;
     Interval slope[3];
+    // The farthest any ray of the packet reaches along the main axis (tfar * |dir_m|, widened):
+    // a triangle whose corners all lie beyond it is past every segment's end (shadow rays end just
+    // in front of the surface they start from). +infinity when some segment is unbounded.
+    float reach = kInfinity;
 
     // Bound on the rounding of a corner's slope, per unit of 1/w: the subtractions lose up to an
     // ulp of the coordinates involved, the reciprocal and the products a few ulps of the slope; the
     // bound allows 2^-21 of every magnitude involved (16 ulps of each).
     static constexpr float kSlopeError = 1.0f / 2097152.0f;
+    // Bound on the rounding of a corner's main-axis distance w, per unit of the coordinates
+    // involved (2^-20: 8 ulps).
+    static constexpr float kDepthError = 1.0f / 1048576.0f;
 
     bool misses(const Triangle& t) const {
         const Float3* corner = &t.v0;
         float q[3][2], e[3][2];
+        bool beyond = true;
         for (int v = 0; v < 3; ++v) {
             const float cm = corner[v][m] - origin[m];
             const float w = cm * sm;        // distance in front of the origin along the main axis
             if (!(w > 0.0f)) return false;  // a corner behind the origin: no decision
+            beyond = beyond && w - (std::fabs(corner[v][m]) + std::fabs(origin[m])) * kDepthError > reach;
             const float inv_w = 1.0f / w;
             const float err = kSlopeError * inv_w;
             const float depth = std::fabs(corner[v][m]) + std::fabs(origin[m]);
@@ -46,6 +55,7 @@ struct PacketFrustum {
                 e[v][a] = scale * err;
             }
         }
+        if (beyond) return true;
         const int js[2] = {j0, j1};
         for (int a = 0; a < 2; ++a) {
             const Interval s = slope[js[a]];

@@ -17,6 +17,7 @@ std::uint32_t frustum_misses(const PacketFrustum& f, const Triangle* tris, const
     const B om(f.origin[m]), oj0(f.origin[j0]), oj1(f.origin[j1]);
     const B abs_om(std::fabs(f.origin[m])), abs_oj0(std::fabs(f.origin[j0])), abs_oj1(std::fabs(f.origin[j1]));
     const B lo0(f.slope[j0].lo), hi0(f.slope[j0].hi), lo1(f.slope[j1].lo), hi1(f.slope[j1].hi);
+    const B reach(f.reach), depth_error(PacketFrustum::kDepthError);
     std::uint32_t result = 0;
     for (int base = 0; base < n; base += W) {
         // Corner coordinates on the main axis and the two others, one triangle per lane; lanes past
@@ -38,11 +39,12 @@ std::uint32_t frustum_misses(const PacketFrustum& f, const Triangle* tris, const
             }
         }
         auto in_front = B(0.0f) == zero;  // all true
-        auto below0 = in_front, above0 = in_front, below1 = in_front, above1 = in_front;
+        auto below0 = in_front, above0 = in_front, below1 = in_front, above1 = in_front, beyond = in_front;
         for (int v = 0; v < 3; ++v) {
             const B pm = B::load_aligned(cm[v]), p0 = B::load_aligned(c0[v]), p1 = B::load_aligned(c1[v]);
             const B w = (pm - om) * sm;
             in_front = in_front & (w > zero);
+            beyond = beyond & ((w - (xsimd::abs(pm) + abs_om) * depth_error) > reach);
             const B inv_w = one / w;
             const B err = slope_error * inv_w;
             const B depth = xsimd::abs(pm) + abs_om;
@@ -54,7 +56,7 @@ std::uint32_t frustum_misses(const PacketFrustum& f, const Triangle* tris, const
             below1 = below1 & ((q1 + e1) < lo1);
             above1 = above1 & ((q1 - e1) > hi1);
         }
-        const auto miss = in_front & (below0 | above0 | below1 | above1);
+        const auto miss = in_front & (below0 | above0 | below1 | above1 | beyond);
         result |= (beamtrace::simd::lane_bits<Arch>(miss) & ((1u << live) - 1u)) << base;
     }
     return result;

@@ -28,10 +28,12 @@ struct Generator {
         Float3 centre = point(1);
         for (int k = 0; k < 3; ++k)
             if (std::fabs(centre[k]) < 0.2f) centre[k] = centre[k] < 0 ? -0.2f : 0.2f;
+        const bool bounded = pick(3) == 0;  // segments that end (the frustum's reach), like shadow rays
         for (int i = 0; i < 16; ++i) {
             Ray r;
             r.org = origin;
             r.dir = centre + point(0.05f);
+            if (bounded) r.tfar = uniform(0.5f, 25.0f);
             p.set_ray(i, r);
         }
         p.active = pick(4) == 0 ? std::uint32_t(1 + pick(0xFFFF)) : 0xFFFFu;
