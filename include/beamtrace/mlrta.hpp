@@ -111,4 +111,14 @@ private:
 // [0, tfar - tnear]. Shadow rays that end at a point light become a beam with a common origin.
 Ray reversed(const Ray& ray);
 
+// Shadow rays towards a point light, traced from the light (section 6): when every active ray of
+// the packet aims at one point, the light (org + dir, with tnear < 1 and tfar <= 1: a shadow ray
+// with direction light - origin), writes each one to `out` as the same segment from that point:
+// origin exactly the light (bit for bit, so the packet has one origin), direction start - light,
+// parameters [(1 - tfar) / (1 - tnear), 1]. Inactive lanes are copied. Returns false and leaves
+// `out` alone when a ray aims elsewhere, or when rounding could move an end of a segment by more
+// than `tolerance` (far from the world origin, say). Every check is in float, with bounds on the
+// rounding.
+bool reverse_towards_light(const Packet16& packet, float tolerance, Packet16& out);
+
 }  // namespace beamtrace

@@ -1,7 +1,6 @@
 // kd16 (4x4 packets by interval traversal from the root: the paper's "no MLRT") and mlrta (tiles,
 // beams, entry-point search, tile splitting, interval traversal from the entry points).
 #include <cmath>
-#include <cstring>
 #include <mutex>
 
 #include "beamtrace/error.hpp"
@@ -38,57 +37,31 @@ double reversal_error(const Ray& ray, const Ray& back) {
     return std::sqrt(e2);
 }
 
-// Shadow rays of the workload point at the light (org + dir is the light) and stop just short of
-// it. When every ray of a packet points at one light (within the tolerance), the reversed rays all
-// start exactly at that point, so the packet has one origin (bit for bit): the kernels then share
-// the triangle set-up across lanes and leaves can cull triangles by the packet's frustum. Each ray
-// covers the same segment as before: from the light, the original far end lies at parameter
-// (1 - tfar) / (1 - tnear) and the original start at 1.
-Packet16 reversed_from_light(const Packet16& packet, double tolerance) {
-    Packet16 out = packet;
-    const std::uint32_t active = packet.active & 0xFFFFu;
-    if (active == 0) return out;
-    const Ray lead = packet.ray(__builtin_ctz(active));
-    const Float3 light = lead.org + lead.dir;
-    for (std::uint32_t m = active; m; m &= m - 1) {
-        const int i = __builtin_ctz(m);
-        const Ray ray = packet.ray(i);
-        if (!(ray.tnear < 1.0f && ray.tfar <= 1.0f && ray.tnear <= ray.tfar)) return packet;
-        const Float3 aim = ray.org + ray.dir;
-        const double dx = double(aim.x) - light.x, dy = double(aim.y) - light.y, dz = double(aim.z) - light.z;
-        if (!(std::sqrt(dx * dx + dy * dy + dz * dz) <= tolerance)) return packet;
-        Ray back;
-        back.org = light;
-        back.dir = (ray.org + ray.dir * ray.tnear) - light;
-        back.tnear = (1.0f - ray.tfar) / (1.0f - ray.tnear);
-        back.tfar = 1.0f;
-        if (!(reversal_error(ray, back) <= tolerance)) return packet;
-        out.set_ray(i, back);
-    }
-    return out;
-}
-
 // Shadow rays end at the light: traced from there, they form beams with (nearly) one origin. A
-// packet is reversed only if every ray's segment survives the reversal: its new origin may round by
-// at most 1e-6 of the scene's diagonal (a tenth of the comparison's grazing distance). Far from the
+// packet is reversed only if every ray's segment survives the reversal: its ends may move by at
+// most 1e-6 of the scene's diagonal (a tenth of the comparison's grazing distance). Far from the
 // world origin, or with an infinite tfar, the rounded segment would be another segment, so such
-// packets are traced as they are (docs/robustness.md).
-std::vector<Packet16> reversed_packets(const RaySet& rays, const Box& bounds) {
+// packets are traced as they are (docs/robustness.md). Packets whose rays aim at several points
+// are reversed ray by ray (reversed()) when that is exact enough, checked in double.
+std::vector<Packet16> reversed_packets(const RaySet& rays, const Box& bounds, int threads) {
     const Float3 e = bounds.extent();  // the diagonal in double: float overflows from about 1e19 on
     const double tolerance = 1e-6 * std::sqrt(double(e.x) * e.x + double(e.y) * e.y + double(e.z) * e.z);
     std::vector<Packet16> out(rays.packets.size());
-    for (std::size_t p = 0; p < rays.packets.size(); ++p) {
-        out[p] = reversed_from_light(rays.packets[p], tolerance);
-        if (std::memcmp(&out[p], &rays.packets[p], sizeof(Packet16)) != 0) continue;
-        bool exact = true;
-        for (std::uint32_t m = out[p].active; m; m &= m - 1) {
-            const int i = __builtin_ctz(m);
-            const Ray ray = rays.packets[p].ray(i), back = reversed(ray);
-            exact = exact && reversal_error(ray, back) <= tolerance;
-            out[p].set_ray(i, back);
+    for_packet_ranges(rays.packets.size(), threads, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t p = begin; p < end; ++p) {
+            const Packet16& in = rays.packets[p];
+            if (reverse_towards_light(in, float(tolerance), out[p])) continue;
+            out[p] = in;
+            bool exact = true;
+            for (std::uint32_t m = in.active & 0xFFFFu; m; m &= m - 1) {
+                const int i = __builtin_ctz(m);
+                const Ray ray = in.ray(i), back = reversed(ray);
+                exact = exact && reversal_error(ray, back) <= tolerance;
+                out[p].set_ray(i, back);
+            }
+            if (!exact) out[p] = in;
         }
-        if (!exact) out[p] = rays.packets[p];
-    }
+    });
     return out;
 }
 
@@ -113,7 +86,7 @@ public:
     }
 
     void occluded(const RaySet& rays, std::vector<std::uint8_t>& occluded, int threads) const override {
-        const std::vector<Packet16> packets = beams_ ? reversed_packets(rays, tree_->scene().bounds()) : rays.packets;
+        const std::vector<Packet16> packets = beams_ ? reversed_packets(rays, tree_->scene().bounds(), threads) : rays.packets;
         std::vector<std::uint32_t> bits(rays.packets.size(), 0);
         trace(rays, packets, threads, nullptr, bits.data(), nullptr);
         occluded.assign(rays.slots(), 0);
@@ -125,7 +98,7 @@ public:
         MlrtaCounters c;
         const bool closest = rays.mode == Mode::primary;
         const std::vector<Packet16> packets =
-            (!closest && beams_) ? reversed_packets(rays, tree_->scene().bounds()) : rays.packets;
+            (!closest && beams_) ? reversed_packets(rays, tree_->scene().bounds(), 1) : rays.packets;
         std::vector<PacketHits16> hits(closest ? packets.size() : 0);
         std::vector<std::uint32_t> bits(closest ? 0 : packets.size());
         trace(rays, packets, 1, closest ? hits.data() : nullptr, closest ? nullptr : bits.data(), &c);
