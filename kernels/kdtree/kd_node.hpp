@@ -47,10 +47,20 @@ struct KdTree::Impl {
     Box bounds;                          // box of the root cell
     std::vector<KdNode> nodes;           // nodes[0] is the root
     std::vector<std::uint32_t> triangle_ids;  // leaves' ranges
+    // The corners of triangle_ids[r] at r: each leaf's triangles side by side in memory, read front
+    // to back by traversals (instead of scattered over the scene; room: a third less time per
+    // packet). 36 bytes per reference.
+    std::vector<Triangle> leaf_triangles;
     KdBuildStats stats;
     const TriangleKernels* kernels = nullptr;
 
     explicit Impl(const Scene& s) : scene(s) {}
+
+    // Fills leaf_triangles from triangle_ids (once the leaves are final).
+    void gather_leaf_triangles() {
+        leaf_triangles.resize(triangle_ids.size());
+        for (std::size_t r = 0; r < triangle_ids.size(); ++r) leaf_triangles[r] = scene.triangle(triangle_ids[r]);
+    }
 };
 
 }  // namespace beamtrace

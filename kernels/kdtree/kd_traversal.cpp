@@ -56,7 +56,7 @@ Hit traverse(const KdTree::Impl& tree, const Ray& ray, TraversalCounters* counte
     WatertightRay wray = make_watertight_ray(ray);
     const KdNode* nodes = tree.nodes.data();
     const std::uint32_t* ids = tree.triangle_ids.data();
-    const Triangle* tris = tree.scene.triangles().data();
+    const Triangle* tris = tree.leaf_triangles.data();
     const TriangleKernels& kernels = *tree.kernels;
 
     StackEntry stack[kStackSize];
@@ -96,6 +96,7 @@ Hit traverse(const KdTree::Impl& tree, const Ray& ray, TraversalCounters* counte
         // Leaf: test its triangles, 8 (or 4) at a time.
         const std::uint32_t count = node.triangle_count();
         const std::uint32_t* leaf = ids + node.offset();
+        const Triangle* corners = tris + node.offset();
         if constexpr (kCount) {
             ++counters->leaves;
             counters->triangle_tests += count;
@@ -103,7 +104,7 @@ Hit traverse(const KdTree::Impl& tree, const Ray& ray, TraversalCounters* counte
         for (std::uint32_t j = 0; j < count; j += 8) {
             const int n = int(count - j < 8 ? count - j : 8);
             const Triangle* batch[8];
-            for (int i = 0; i < n; ++i) batch[i] = tris + leaf[j + i];
+            for (int i = 0; i < n; ++i) batch[i] = corners + j + i;
             LaneHits lanes;
             if (n <= 4) kernels.ray_x4(wray, batch, n, lanes);
             else kernels.ray_x8(wray, batch, n, lanes);

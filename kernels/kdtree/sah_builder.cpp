@@ -83,7 +83,9 @@ public:
         s.triangle_references = out_.triangle_ids.size();
         const std::size_t full = s.leaves - s.empty_leaves;
         s.mean_triangles_per_leaf = full ? double(s.triangle_references) / double(full) : 0.0;
-        s.bytes = out_.nodes.size() * sizeof(KdNode) + out_.triangle_ids.size() * sizeof(std::uint32_t);
+        out_.gather_leaf_triangles();
+        s.bytes = out_.nodes.size() * sizeof(KdNode) + out_.triangle_ids.size() * sizeof(std::uint32_t) +
+                  out_.leaf_triangles.size() * sizeof(Triangle);
         if (progress_) progress_(1.0);
     }
 

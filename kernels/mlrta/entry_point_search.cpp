@@ -34,7 +34,7 @@ public:
     // A blocker known from the parent tile (whose beam holds this one) blocks this beam as well:
     // it bounds the search from the start.
     void inherit(const EntryPoint& start) {
-        if (start.blocked() && triangles_.valid) try_blocker(start.blocker, start.box);
+        if (start.blocked() && triangles_.valid) try_blocker(start.blocker, kd_.scene.triangle(start.blocker), start.box);
     }
 
     // Children of an inner node the beam may enter, near child first.
@@ -68,12 +68,11 @@ public:
         if (count == 0) return false;
         if (frustum_.valid ? frustum_misses_box(frustum_, n.box) : beam_misses_box(beam_, n.box)) return false;
         if (!triangles_.valid) return true;
-        const std::uint32_t* ids = kd_.triangle_ids.data() + node.offset();
-        const Triangle* tris = kd_.scene.triangles().data();
+        const Triangle* tris = kd_.leaf_triangles.data() + node.offset();
         for (std::uint32_t j = 0; j < count; j += 16) {
             const int batch = int(std::min<std::uint32_t>(16, count - j));
             const std::uint32_t all = batch == 16 ? 0xFFFFu : (1u << batch) - 1u;
-            if (m_.frustum_cull(triangles_, tris, ids + j, batch) != all) return true;
+            if (m_.frustum_cull(triangles_, tris + j, batch) != all) return true;
         }
         return false;
     }
@@ -89,9 +88,10 @@ public:
             const std::uint32_t count = node.triangle_count();
             if (count <= kMaxBlockingCandidates) {
                 const std::uint32_t* ids = kd_.triangle_ids.data() + node.offset();
-                const std::uint32_t culled = m_.frustum_cull(triangles_, kd_.scene.triangles().data(), ids, int(count));
+                const Triangle* tris = kd_.leaf_triangles.data() + node.offset();
+                const std::uint32_t culled = m_.frustum_cull(triangles_, tris, int(count));
                 for (std::uint32_t j = 0; j < count; ++j)
-                    if (!((culled >> j) & 1u) && try_blocker(ids[j], leaf.box)) return true;
+                    if (!((culled >> j) & 1u) && try_blocker(ids[j], tris[j], leaf.box)) return true;
             }
         }
         return covered_flat_leaf_ends_all(leaf);
@@ -224,8 +224,8 @@ private:
     // Does triangle `id` block the beam? If so, and nearer than the blocker known so far, it becomes
     // the blocker and the beam's segments are cut at its farthest hit. True when its hits all lie
     // inside `cell`.
-    bool try_blocker(std::uint32_t id, const Box& cell) {
-        const BeamBlock b = beam_block(beam_, triangles_, kd_.scene.triangle(id), cell);
+    bool try_blocker(std::uint32_t id, const Triangle& tri, const Box& cell) {
+        const BeamBlock b = beam_block(beam_, triangles_, tri, cell);
         if (!b.blocks) return false;
         if (!blocked() || b.far < blocker_far_) {
             blocker_ = id;

@@ -150,7 +150,7 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
     const TriangleKernels& kernels = *kd.kernels;
     const KdNode* nodes = kd.nodes.data();
     const std::uint32_t* ids = kd.triangle_ids.data();
-    const Triangle* tris = kd.scene.triangles().data();
+    const Triangle* tris = kd.leaf_triangles.data();
     std::uint32_t mailbox[kMailboxSize];
     for (std::uint32_t& b : mailbox) b = kNoHit;
 
@@ -196,15 +196,16 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
         // ray's current segment.
         if (count > 0 && !packet_misses_box(pb, box, c0, reach) && m.lane_box(slabs, wp.tfar, wp.active, box) != 0) {
             const std::uint32_t* leaf = ids + node.offset();
+            const Triangle* corners = tris + node.offset();
             std::uint32_t culled = 0;  // bit j % 16: the packet's frustum misses leaf[j]
             const bool cull = frustum.valid && count > kMinCulledLeaf;
             for (std::uint32_t j = 0; j < count; ++j) {
                 if (cull && j % 16 == 0)  // the next 16 triangles decided at once (SIMD)
-                    culled = m.frustum_cull(frustum, tris, leaf + j, int(std::min<std::uint32_t>(16, count - j)));
+                    culled = m.frustum_cull(frustum, corners + j, int(std::min<std::uint32_t>(16, count - j)));
                 const std::uint32_t id = leaf[j];
                 std::uint32_t& slot = mailbox[id % kMailboxSize];
                 if (slot == id) continue;  // already tested for every lane: the result cannot change
-                const Triangle& tri = tris[id];
+                const Triangle& tri = corners[j];
                 if (cull) {
                     if ((culled >> (j % 16)) & 1u) {
                         slot = id;  // the frustum is the packet's: the triangle stays culled

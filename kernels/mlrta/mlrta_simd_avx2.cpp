@@ -5,8 +5,8 @@
 
 namespace beamtrace::mlrta {
 namespace frustum_cull_avx2 {
-std::uint32_t misses(const PacketFrustum& f, const Triangle* tris, const std::uint32_t* ids, int n) {
-    return simd::frustum_misses<xsimd::avx2>(f, tris, ids, n);
+std::uint32_t misses(const PacketFrustum& f, const Triangle* tris, int n) {
+    return simd::frustum_misses<xsimd::avx2>(f, tris, n);
 }
 }  // namespace frustum_cull_avx2
 namespace lane_slabs_avx2 {

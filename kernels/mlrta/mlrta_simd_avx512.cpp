@@ -10,8 +10,8 @@
 
 namespace beamtrace::mlrta {
 namespace frustum_cull_avx512 {
-std::uint32_t misses(const PacketFrustum& f, const Triangle* tris, const std::uint32_t* ids, int n) {
-    return simd::frustum_misses<xsimd::avx512bw>(f, tris, ids, n);
+std::uint32_t misses(const PacketFrustum& f, const Triangle* tris, int n) {
+    return simd::frustum_misses<xsimd::avx512bw>(f, tris, n);
 }
 }  // namespace frustum_cull_avx512
 namespace lane_slabs_avx512 {

@@ -10,10 +10,10 @@ namespace beamtrace::mlrta {
 
 namespace {
 
-std::uint32_t scalar_misses(const PacketFrustum& f, const Triangle* tris, const std::uint32_t* ids, int n) {
+std::uint32_t scalar_misses(const PacketFrustum& f, const Triangle* tris, int n) {
     std::uint32_t bits = 0;
     for (int i = 0; i < n; ++i)
-        if (f.misses(tris[ids[i]])) bits |= 1u << i;
+        if (f.misses(tris[i])) bits |= 1u << i;
     return bits;
 }
 

@@ -74,22 +74,21 @@ struct PacketFrustum {
 // component; `valid` is false (nothing culled) unless they share one origin.
 PacketFrustum make_packet_frustum(const Packet16& packet, std::uint32_t mask);
 
-// Bit i set when the frustum misses tris[ids[i]], for i < n (n <= 16).
-using FrustumCullKernel = std::uint32_t (*)(const PacketFrustum& f, const Triangle* tris, const std::uint32_t* ids,
-                                            int n);
+// Bit i set when the frustum misses tris[i], for i < n (n <= 16; a leaf's triangles side by side).
+using FrustumCullKernel = std::uint32_t (*)(const PacketFrustum& f, const Triangle* tris, int n);
 
 // The kernel of one instruction set (which must be available): scalar (the reference), SSE4.2
 // (4 triangles per step), AVX2 (8), AVX-512 (16).
 FrustumCullKernel frustum_cull_kernel(Isa isa);
 
 namespace frustum_cull_sse42 {
-std::uint32_t misses(const PacketFrustum&, const Triangle*, const std::uint32_t*, int);
+std::uint32_t misses(const PacketFrustum&, const Triangle*, int);
 }
 namespace frustum_cull_avx2 {
-std::uint32_t misses(const PacketFrustum&, const Triangle*, const std::uint32_t*, int);
+std::uint32_t misses(const PacketFrustum&, const Triangle*, int);
 }
 namespace frustum_cull_avx512 {
-std::uint32_t misses(const PacketFrustum&, const Triangle*, const std::uint32_t*, int);
+std::uint32_t misses(const PacketFrustum&, const Triangle*, int);
 }
 
 }  // namespace beamtrace::mlrta

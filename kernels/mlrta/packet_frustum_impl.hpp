@@ -1,6 +1,6 @@
 #pragma once
 // PacketFrustum::misses written once over xsimd batches, W triangles per step (structure of arrays
-// gathered from the leaf's ids). Included only by the per-ISA units.
+// gathered from the leaf's triangles). Included only by the per-ISA units.
 #include <xsimd/xsimd.hpp>
 
 #include "common/lane_bits.hpp"
@@ -9,7 +9,7 @@
 namespace beamtrace::mlrta::simd {
 
 template <class Arch>
-std::uint32_t frustum_misses(const PacketFrustum& f, const Triangle* tris, const std::uint32_t* ids, int n) {
+std::uint32_t frustum_misses(const PacketFrustum& f, const Triangle* tris, int n) {
     using B = xsimd::batch<float, Arch>;
     constexpr int W = int(B::size);
     const int m = f.m, j0 = f.j0, j1 = f.j1;
@@ -31,7 +31,7 @@ std::uint32_t frustum_misses(const PacketFrustum& f, const Triangle* tris, const
                 zero.store_aligned(c1[v]);
             }
         for (int i = 0; i < live; ++i) {
-            const float* corner = &tris[ids[base + i]].v0.x;
+            const float* corner = &tris[base + i].v0.x;
             for (int v = 0; v < 3; ++v) {
                 cm[v][i] = corner[3 * v + m];
                 c0[v][i] = corner[3 * v + j0];

@@ -42,6 +42,7 @@ KdTree HandTree::tree() const {
     impl->bounds = bounds_;
     impl->nodes = nodes_;
     impl->triangle_ids = ids_;
+    impl->gather_leaf_triangles();
     impl->kernels = &triangle_kernels();
     return KdTree::from_impl(impl);
 }

@@ -73,13 +73,13 @@ TEST(MlrtaPacketFrustum, KernelsDecideExactlyAsTheScalarReference) {
             ASSERT_TRUE(f.valid);
             std::vector<Triangle> tris;
             for (int i = 0; i < 40; ++i) tris.push_back(gen.triangle_near(p));
-            std::uint32_t ids[16];
+            Triangle leaf[16];  // a leaf's triangles side by side
             const int n = 1 + gen.pick(16);
-            for (int i = 0; i < n; ++i) ids[i] = std::uint32_t(gen.pick(int(tris.size())));
-            const std::uint32_t bits = kernel(f, tris.data(), ids, n);
+            for (int i = 0; i < n; ++i) leaf[i] = tris[std::size_t(gen.pick(int(tris.size())))];
+            const std::uint32_t bits = kernel(f, leaf, n);
             ASSERT_EQ(bits >> n, 0u) << isa_name(isa) << ": bits past n";
             for (int i = 0; i < n; ++i) {
-                const bool expected = f.misses(tris[ids[i]]);
+                const bool expected = f.misses(leaf[i]);
                 ASSERT_EQ(((bits >> i) & 1u) != 0, expected) << isa_name(isa) << " triangle " << i << " of " << n;
                 culled += expected;
                 ++decided;
