@@ -85,7 +85,26 @@ void mark_covered(const KdTree::Impl& tree, std::uint32_t i, const Box& box, std
     mark_covered(tree, n.upper_child(), upper, out);
 }
 
+void mark_boxes(const KdTree::Impl& tree, std::uint32_t i, const Box& box, std::vector<Box>& out) {
+    const KdNode& n = tree.nodes[i];
+    if (n.is_leaf()) {
+        out[i] = box;
+        return;
+    }
+    Box lower = box, upper = box;
+    lower.upper[n.axis()] = n.split;
+    upper.lower[n.axis()] = n.split;
+    mark_boxes(tree, i + 1, lower, out);
+    mark_boxes(tree, n.upper_child(), upper, out);
+}
+
 }  // namespace
+
+std::vector<Box> leaf_boxes(const KdTree::Impl& tree) {
+    std::vector<Box> out(tree.nodes.size());
+    if (!tree.nodes.empty()) mark_boxes(tree, 0, tree.bounds, out);
+    return out;
+}
 
 std::vector<std::uint32_t> subtree_sizes(const KdTree::Impl& tree) {
     std::vector<std::uint32_t> out(tree.nodes.size(), 1);

@@ -11,6 +11,9 @@ namespace beamtrace::mlrta {
 
 std::vector<std::uint32_t> subtree_sizes(const KdTree::Impl& tree);
 
+// The box of every leaf, by node index (inner nodes' entries are empty boxes).
+std::vector<Box> leaf_boxes(const KdTree::Impl& tree);
+
 // A leaf is covered when it is flat (zero extent along one axis), its triangles lying in that plane
 // do not overlap one another (2D separating-axis test in double precision) and their areas inside
 // the leaf's face add up to the face's area (to 1e-9). Leaves with more than 64 triangles are not

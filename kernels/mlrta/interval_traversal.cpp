@@ -60,7 +60,6 @@ bool packet_misses_box(const PacketBounds& pb, const Box& box, float t0, float t
 struct StackEntry {
     std::uint32_t node;
     float c0, c1;
-    Box box;
 };
 
 }  // namespace
@@ -158,39 +157,27 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
     StackEntry stack[kStackSize];
     int top = 0;
     std::uint32_t index = ep.node;
-    Box box = ep.box;
     for (;;) {
         const KdNode& node = nodes[index];
         if constexpr (kCount) ++counters->xp_steps;
         if (!node.is_leaf()) {
             const int k = node.axis();
-            const float split = node.split;
-            const Interval tp = pb.plane_t(k, split);
+            const Interval tp = pb.plane_t(k, node.split);
             const bool lower_near = pb.sign[k] > 0;
             const std::uint32_t lower = index + 1, upper = node.upper_child();
-            Box near_box = box, far_box = box;
-            if (lower_near) {
-                near_box.upper[k] = split;
-                far_box.lower[k] = split;
-            } else {
-                near_box.lower[k] = split;
-                far_box.upper[k] = split;
-            }
             const std::uint32_t near = lower_near ? lower : upper, far = lower_near ? upper : lower;
             if (c1 < tp.lo) {  // every ray leaves the cell before reaching the plane
                 index = near;
-                box = near_box;
             } else if (c0 > tp.hi) {  // every ray reaches the cell only beyond the plane
                 index = far;
-                box = far_box;
             } else {
-                stack[top++] = StackEntry{far, std::max(c0, tp.lo), c1, far_box};
+                stack[top++] = StackEntry{far, std::max(c0, tp.lo), c1};
                 c1 = std::min(c1, tp.hi);
                 index = near;
-                box = near_box;
             }
             continue;
         }
+        const Box& box = m.leaf_boxes[index];
         const std::uint32_t count = node.triangle_count();
         // The leaf box against the packet's interval bounds (test (2)), then against each active
         // ray's current segment.
@@ -248,7 +235,6 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
             index = e.node;
             c0 = e.c0;
             c1 = e.c1;
-            box = e.box;
             break;
         }
     }
