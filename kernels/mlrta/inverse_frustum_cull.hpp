@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "mlrta/beam.hpp"
+#include "mlrta/split_rectangle.hpp"
 
 namespace beamtrace::mlrta {
 
@@ -22,11 +23,18 @@ inline ChildMask cull_split(const Beam& beam, const Box& cell, int k, float spli
     // Every ray ends before it reaches the plane: the far side is out of reach (not in the paper's
     // figure; the leaf test (2) makes the same use of the segments' lengths).
     if (beam.plane_t(k, split).lo > beam.length.hi) far_possible = false;
-    for (int j = 0; j < 3; ++j) {
-        if (j == k) continue;
-        const Interval r = beam.plane_range(k, split, j);
-        if (r.hi < cell.lower[j]) (beam.sign[j] < 0 ? far_possible : near_possible) = false;
-        if (r.lo > cell.upper[j]) (beam.sign[j] > 0 ? far_possible : near_possible) = false;
+    // The rectangle [lo_j, hi_j, lo_l, hi_l] against the cell's faces: lanes 0 and 2 beyond the
+    // upper faces, lanes 1 and 3 before the lower ones (4-wide SSE).
+    const int j = rectangle_axis(k, 0), l = rectangle_axis(k, 1);
+    const __m128 rect = split_rectangle(beam, k, split);
+    const __m128 faces = _mm_setr_ps(cell.upper[j], cell.lower[j], cell.upper[l], cell.lower[l]);
+    const int outside = _mm_movemask_ps(_mm_or_ps(_mm_and_ps(_mm_cmpgt_ps(rect, faces), _mm_castsi128_ps(_mm_setr_epi32(-1, 0, -1, 0))),
+                                                  _mm_and_ps(_mm_cmplt_ps(rect, faces), _mm_castsi128_ps(_mm_setr_epi32(0, -1, 0, -1)))));
+    const int axes[2] = {j, l};
+    for (int pair = 0; pair < 2; ++pair) {
+        const int a = axes[pair];
+        if ((outside >> (2 * pair + 1)) & 1) (beam.sign[a] < 0 ? far_possible : near_possible) = false;  // r.hi < lower
+        if ((outside >> (2 * pair)) & 1) (beam.sign[a] > 0 ? far_possible : near_possible) = false;      // r.lo > upper
     }
     const ChildMask near = sk > 0 ? kLower : kUpper, far = sk > 0 ? kUpper : kLower;
     return ChildMask((near_possible ? near : 0) | (far_possible ? far : 0));

@@ -5,7 +5,11 @@
 #include <gtest/gtest.h>
 
 #include "hand_tree.hpp"
+#include <bit>
+#include <cmath>
+
 #include "mlrta/inverse_frustum_cull.hpp"
+#include "mlrta/split_rectangle.hpp"
 
 using namespace beamtrace;
 using namespace beamtrace::mlrta;
@@ -216,4 +220,36 @@ TEST(MlrtaInverseCull, ConservativeForRaysNearlyParallelToAPlane) {
             << "trial " << trial << ": a ray enters the upper child, axis " << k << ", tiny component on axis " << flat;
     }
     EXPECT_GT(trials, 1000);
+}
+
+// The 4-wide SSE rectangle on a split plane (split_rectangle.hpp) is plane_range's for both other
+// axes, bit for bit, for random beams (one origin or many, either sign, finite or infinite
+// segments, with or without scene padding) and planes on every axis.
+TEST(MlrtaInverseCull, SseRectangleEqualsTheScalarRangesBitForBit) {
+    Rng rng(31);
+    int compared = 0;
+    for (int iter = 0; iter < 20000; ++iter) {
+        const Float3 org{uniform(rng, -50, 50), uniform(rng, -50, 50), uniform(rng, -50, 50)};
+        Float3 dir{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)};
+        for (int k = 0; k < 3; ++k)
+            if (std::fabs(dir[k]) < 0.01f) dir[k] = 0.01f;
+        std::vector<Ray> rays = bundle(rng, 2 + int(rng() % 20), org, rng() % 2 ? 0.0f : uniform(rng, 0, 5), dir,
+                                       uniform(rng, 0, 0.3f));
+        if (rng() % 2)
+            for (Ray& r : rays) r.tfar = uniform(rng, 1, 100);
+        Box scene{{-100, -100, -100}, {100, 100, 100}};
+        const Beam beam = beam_of(rays, rng() % 4 ? &scene : nullptr);
+        if (!beam.coherent) continue;
+        for (int k = 0; k < 3; ++k) {
+            const float p = uniform(rng, -120, 120);
+            float expected[4], got[4];
+            split_rectangle_reference(beam, k, p, expected);
+            _mm_storeu_ps(got, split_rectangle(beam, k, p));
+            for (int i = 0; i < 4; ++i)
+                ASSERT_EQ(std::bit_cast<std::uint32_t>(got[i]), std::bit_cast<std::uint32_t>(expected[i]))
+                    << "iteration " << iter << " axis " << k << " lane " << i << ": " << got[i] << " vs " << expected[i];
+            ++compared;
+        }
+    }
+    EXPECT_GT(compared, 50000);
 }
