@@ -87,10 +87,8 @@ void mark_covered(const KdTree::Impl& tree, std::uint32_t i, const Box& box, std
 
 void mark_boxes(const KdTree::Impl& tree, std::uint32_t i, const Box& box, std::vector<Box>& out) {
     const KdNode& n = tree.nodes[i];
-    if (n.is_leaf()) {
-        out[i] = box;
-        return;
-    }
+    out[i] = box;
+    if (n.is_leaf()) return;
     Box lower = box, upper = box;
     lower.upper[n.axis()] = n.split;
     upper.lower[n.axis()] = n.split;
@@ -100,7 +98,7 @@ void mark_boxes(const KdTree::Impl& tree, std::uint32_t i, const Box& box, std::
 
 }  // namespace
 
-std::vector<Box> leaf_boxes(const KdTree::Impl& tree) {
+std::vector<Box> node_boxes(const KdTree::Impl& tree) {
     std::vector<Box> out(tree.nodes.size());
     if (!tree.nodes.empty()) mark_boxes(tree, 0, tree.bounds, out);
     return out;

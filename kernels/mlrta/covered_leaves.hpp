@@ -11,8 +11,8 @@ namespace beamtrace::mlrta {
 
 std::vector<std::uint32_t> subtree_sizes(const KdTree::Impl& tree);
 
-// The box of every leaf, by node index (inner nodes' entries are empty boxes).
-std::vector<Box> leaf_boxes(const KdTree::Impl& tree);
+// The box of every node's cell, by node index.
+std::vector<Box> node_boxes(const KdTree::Impl& tree);
 
 // A leaf is covered when it is flat (zero extent along one axis), its triangles lying in that plane
 // do not overlap one another (2D separating-axis test in double precision) and their areas inside

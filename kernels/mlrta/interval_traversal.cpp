@@ -177,7 +177,7 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
             }
             continue;
         }
-        const Box& box = m.leaf_boxes[index];
+        const Box& box = m.node_boxes[index];
         const std::uint32_t count = node.triangle_count();
         // The leaf box against the packet's interval bounds (test (2)), then against each active
         // ray's current segment.
