@@ -53,7 +53,9 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--mlrta-split", args->mlrta.split_factor, "mlrta: sub-tiles per split (SF), 4 or 16")->capture_default_str();
     cmd->add_option("--mlrta-min-tile", args->mlrta.min_tile, "mlrta: minimum tile size in pixels (MTS)")->capture_default_str();
     cmd->add_option("--mlrta-frustum", args->mlrta_frustum, "mlrta: entry-point culling, inverse | direct")->capture_default_str();
-    cmd->add_option("--mlrta-ep-search", args->mlrta_ep_search, "mlrta: entry-point search order, top-down | bifurcation-stack (same entry points)")->capture_default_str();
+    cmd->add_option("--mlrta-ep-search", args->mlrta_ep_search, "mlrta: entry-point search order, top-down | bifurcation-stack (the same entry points with --no-mlrta-ep-triangles)")->capture_default_str();
+    cmd->add_flag("--mlrta-ep-triangles,!--no-mlrta-ep-triangles", args->mlrta.ep_triangles, "mlrta: entry-point searches of one-origin beams cull leaves by their triangles and stop at a triangle that blocks the whole beam (default on)");
+    cmd->add_flag("--mlrta-stuck-stop,!--no-mlrta-stuck-stop", args->mlrta.stop_when_stuck, "mlrta: stop splitting a tile whose entry point is its parent's (default on; off: the paper's schedule, split down to the minimum tile size)");
     cmd->add_flag("--triangle-culling,!--no-triangle-culling", args->mlrta.triangle_culling, "kd16/mlrta: cull leaf triangles outside a one-origin packet's frustum before testing them (default on; --no-triangle-culling turns it off)");
     cmd->add_option("--vlf-dirs", args->vlf.directions, "vlf: beam directions l (2 m^2 + 1: 33, 129, 513, ...)")->capture_default_str();
     cmd->add_option("--vlf-tiles", args->vlf.tiles, "vlf: tiles per side n of each parallel subfield")->capture_default_str();
