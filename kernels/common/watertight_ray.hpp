@@ -53,7 +53,8 @@ struct alignas(64) WatertightPacket16 {
     int first = 0;
 };
 
-inline WatertightPacket16 make_watertight_packet(const Packet16& p) {
+// The set-up of every lane as make_watertight_ray does it (the reference of the SSE form below).
+inline WatertightPacket16 make_watertight_packet_reference(const Packet16& p) {
     WatertightPacket16 w;
     for (int i = 0; i < 16; ++i) {
         Ray r = p.ray(i);
@@ -81,5 +82,8 @@ inline WatertightPacket16 make_watertight_packet(const Packet16& p) {
     }
     return w;
 }
+
+// The same, bit for bit, four lanes at a time (SSE; kernels/common/watertight_packet.cpp).
+WatertightPacket16 make_watertight_packet(const Packet16& p);
 
 }  // namespace beamtrace

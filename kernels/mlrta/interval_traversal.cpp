@@ -8,6 +8,7 @@
 #include "common/watertight_ray.hpp"
 #include "mlrta/interval.hpp"
 #include "mlrta/packet_frustum.hpp"
+#include "mlrta/packet_lanes.hpp"
 
 namespace beamtrace::mlrta {
 
@@ -90,54 +91,25 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
     }
     // Cell decisions use each ray's distance along its line (t * |dir|), so that rays of one
     // direction but different parameter speeds (shadow rays of different lengths) share intervals;
-    // triangle tests keep each ray's own t.
-    const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
-    const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
-    float c0 = kInfinity, c1 = -kInfinity, tnear_min = kInfinity;
-    bool first_lane = true;
-    for (std::uint32_t bits = mask; bits; bits &= bits - 1) {
-        const int i = __builtin_ctz(bits);
-        float enter = packet.tnear[i] * speed[i], exit = packet.tfar[i] * speed[i];
-        for (int k = 0; k < 3; ++k) {
-            const float inv = speed[i] / dir[k][i];  // reciprocal of the unit direction's component
-            float a = (ep.box.lower[k] - org[k][i]) * inv, b = (ep.box.upper[k] - org[k][i]) * inv;
-            if (a > b) std::swap(a, b);
-            enter = std::max(enter, a);
-            exit = std::min(exit, b);
-            if (first_lane) {
-                pb.org[k] = {org[k][i], org[k][i]};
-                pb.inv[k] = {inv, inv};
-            } else {
-                pb.org[k] = hull(pb.org[k], {org[k][i], org[k][i]});
-                pb.inv[k] = hull(pb.inv[k], {inv, inv});
-            }
-        }
-        first_lane = false;
-        // Rounding of enter/exit is covered by widening the packet interval below.
-        const float slack = (std::fabs(enter) + std::fabs(exit)) * kRelativePad + pb.pad;
-        if (enter > exit + slack) {
-            mask &= ~(1u << i);
-            continue;
-        }
-        c0 = std::min(c0, enter);
-        c1 = std::max(c1, exit);
-        tnear_min = std::min(tnear_min, packet.tnear[i] * speed[i]);
-    }
+    // triangle tests keep each ray's own t. The lanes' cuts to the entry point's cell, all at once.
+    const CellEntry entry = enter_cell(packet, mask, speed, ep.box, pb.pad);
+    mask = entry.lanes;
     if (mask == 0) return;
+    for (int k = 0; k < 3; ++k) {
+        pb.org[k] = entry.org[k];
+        pb.inv[k] = entry.inv[k];
+    }
+    float c0, c1;
     {
-        const Interval cell = widen({c0, c1}, pb.pad);
-        c0 = std::max(cell.lo, tnear_min - std::fabs(tnear_min) * kRelativePad);
+        const Interval cell = widen({entry.c0, entry.c1}, pb.pad);
+        c0 = std::max(cell.lo, entry.near - std::fabs(entry.near) * kRelativePad);
         c1 = cell.hi;
     }
     // The farthest distance along its line any active ray may still hit at (its tfar or closest hit).
     // It only changes when a ray finds a hit (or, for occlusion, stops), so it is kept, not recomputed
     // per cell.
     auto farthest = [&](std::uint32_t lanes, const float* tfar) {
-        float d = -kInfinity;
-        for (; lanes; lanes &= lanes - 1) {
-            const int i = __builtin_ctz(lanes);
-            d = std::max(d, tfar[i] * speed[i]);
-        }
+        const float d = farthest_distance(tfar, speed, lanes);
         return d + std::fabs(d) * kRelativePad;
     };
 
@@ -245,23 +217,14 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
 // factor kMaxRatio. Otherwise the group's interval bounds cover the whole hull of a widening beam (or
 // lose all precision for rays nearly parallel to a plane), and interval traversal visits far more
 // cells than the rays one by one would.
-bool well_conditioned(const Packet16& packet, std::uint32_t lanes, const float* speed) {
+bool well_conditioned(const PacketLanes& l, std::uint32_t lanes) {
     constexpr float kMaxSpread = 0.05f, kMaxRatio = 8.0f;
-    float lo[3] = {kInfinity, kInfinity, kInfinity}, hi[3] = {-kInfinity, -kInfinity, -kInfinity};
-    float alo[3] = {kInfinity, kInfinity, kInfinity}, ahi[3] = {0.0f, 0.0f, 0.0f};
-    for (std::uint32_t b = lanes; b; b &= b - 1) {
-        const int i = __builtin_ctz(b);
-        const Float3 d{packet.dir_x[i], packet.dir_y[i], packet.dir_z[i]};
-        const Float3 u = d * (1.0f / speed[i]);
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = std::min(lo[k], u[k]);
-            hi[k] = std::max(hi[k], u[k]);
-            alo[k] = std::min(alo[k], std::fabs(u[k]));
-            ahi[k] = std::max(ahi[k], std::fabs(u[k]));
-        }
+    for (int k = 0; k < 3; ++k) {
+        // One sign per axis in a group: the magnitudes' range follows from the range.
+        const Interval u = lane_range(l.unit[k], lanes);
+        const float alo = std::min(std::fabs(u.lo), std::fabs(u.hi)), ahi = std::max(std::fabs(u.lo), std::fabs(u.hi));
+        if (u.hi - u.lo > kMaxSpread || ahi > kMaxRatio * alo) return false;
     }
-    for (int k = 0; k < 3; ++k)
-        if (hi[k] - lo[k] > kMaxSpread || ahi[k] > kMaxRatio * alo[k]) return false;
     return true;
 }
 
@@ -290,38 +253,31 @@ void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint
     }
     if constexpr (kCount) ++counters->packets;
     if (ep.misses || packet.active == 0) return;
-    // Direction lengths of all lanes at once (a loop the compiler vectorises; inactive lanes unused).
-    alignas(64) float speed[16];
-    for (int i = 0; i < 16; ++i)
-        speed[i] = std::sqrt(packet.dir_x[i] * packet.dir_x[i] + packet.dir_y[i] * packet.dir_y[i] +
-                             packet.dir_z[i] * packet.dir_z[i]);
-    std::uint32_t octant_lanes[8] = {};
-    // Rays that describe no segment (NaN, infinities, a zero direction, tnear > tfar) report nothing.
-    for (std::uint32_t bits = packet.active & 0xFFFFu & segment_lanes(packet); bits; bits &= bits - 1) {
-        const int i = __builtin_ctz(bits);
-        // Zero (or denormal) components have no usable reciprocal: such rays go alone.
-        if (!(std::fabs(packet.dir_x[i]) >= FLT_MIN && std::fabs(packet.dir_y[i]) >= FLT_MIN &&
-              std::fabs(packet.dir_z[i]) >= FLT_MIN)) {
-            trace_single<kOcclusion, kCount>(m, packet, i, hits, occluded, counters);
-            continue;
-        }
-        const int octant = int(std::signbit(packet.dir_x[i])) | (int(std::signbit(packet.dir_y[i])) << 1) |
-                           (int(std::signbit(packet.dir_z[i])) << 2);
-        octant_lanes[octant] |= 1u << i;
-    }
+    // Direction lengths, unit directions and lane classes of all lanes at once (SSE).
+    const PacketLanes lanes_of = packet_lanes(packet);
+    // Rays that describe no segment (NaN, infinities, a zero direction, tnear > tfar) report nothing;
+    // zero (or denormal) components have no usable reciprocal: such rays go alone.
+    for (std::uint32_t b = lanes_of.flat; b; b &= b - 1)
+        trace_single<kOcclusion, kCount>(m, packet, __builtin_ctz(b), hits, occluded, counters);
+    const std::uint32_t coherent = lanes_of.valid & ~lanes_of.flat;
     // Interval traversal pays when the rays of a group travel together. Groups of one or two rays,
     // groups whose origins lie far apart and groups of diverging or nearly plane-parallel directions
     // (incoherent secondary rays) are traced ray by ray.
     const float far_apart = 0.01f * m.kd().bounds.diagonal();
-    for (std::uint32_t lanes : octant_lanes) {
+    for (int o = 0; o < 8 && coherent; ++o) {
+        const std::uint32_t lanes = octant_lanes(lanes_of, coherent, o);
         if (lanes == 0) continue;
-        Box origins;
-        for (std::uint32_t b = lanes; b; b &= b - 1) {
-            const int i = __builtin_ctz(b);
-            origins.extend(Float3{packet.org_x[i], packet.org_y[i], packet.org_z[i]});
+        bool together = __builtin_popcount(lanes) > 2;
+        if (together) {
+            Box origins;
+            const Interval x = lane_range(packet.org_x, lanes), y = lane_range(packet.org_y, lanes),
+                           z = lane_range(packet.org_z, lanes);
+            origins.lower = Float3{x.lo, y.lo, z.lo};
+            origins.upper = Float3{x.hi, y.hi, z.hi};
+            together = !(origins.diagonal() > far_apart) && well_conditioned(lanes_of, lanes);
         }
-        if (__builtin_popcount(lanes) > 2 && !(origins.diagonal() > far_apart) && well_conditioned(packet, lanes, speed)) {
-            interval_traversal<kOcclusion, kCount>(m, packet, lanes, ep, speed, hits, occluded, counters);
+        if (together) {
+            interval_traversal<kOcclusion, kCount>(m, packet, lanes, ep, lanes_of.speed, hits, occluded, counters);
             continue;
         }
         for (std::uint32_t b = lanes; b; b &= b - 1)
