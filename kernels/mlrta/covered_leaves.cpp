@@ -1,5 +1,6 @@
 #include "mlrta/covered_leaves.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -85,22 +86,29 @@ void mark_covered(const KdTree::Impl& tree, std::uint32_t i, const Box& box, std
     mark_covered(tree, n.upper_child(), upper, out);
 }
 
-void mark_boxes(const KdTree::Impl& tree, std::uint32_t i, const Box& box, std::vector<Box>& out) {
+void mark_geometry(const KdTree::Impl& tree, std::uint32_t i, const Box& cell, std::vector<Box>& out) {
     const KdNode& n = tree.nodes[i];
-    out[i] = box;
-    if (n.is_leaf()) return;
-    Box lower = box, upper = box;
-    lower.upper[n.axis()] = n.split;
-    upper.lower[n.axis()] = n.split;
-    mark_boxes(tree, i + 1, lower, out);
-    mark_boxes(tree, n.upper_child(), upper, out);
+    if (!n.is_leaf()) {
+        Box lower = cell, upper = cell;
+        lower.upper[n.axis()] = n.split;
+        upper.lower[n.axis()] = n.split;
+        mark_geometry(tree, i + 1, lower, out);
+        mark_geometry(tree, n.upper_child(), upper, out);
+        return;
+    }
+    const Float3 e = cell.extent();
+    const double slack = 1e-6 * (double(std::max({e.x, e.y, e.z})) + 1e-30);
+    for (std::uint32_t j = 0; j < n.triangle_count(); ++j) {
+        const Box b = kd::clipped_bounds(tree.leaf_triangles[n.offset() + j], cell, slack);
+        if (!b.empty()) out[i].extend(b);
+    }
 }
 
 }  // namespace
 
-std::vector<Box> node_boxes(const KdTree::Impl& tree) {
+std::vector<Box> leaf_geometry_boxes(const KdTree::Impl& tree) {
     std::vector<Box> out(tree.nodes.size());
-    if (!tree.nodes.empty()) mark_boxes(tree, 0, tree.bounds, out);
+    if (!tree.nodes.empty()) mark_geometry(tree, 0, tree.bounds, out);
     return out;
 }
 

@@ -149,10 +149,11 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
             }
             continue;
         }
-        const Box& box = m.node_boxes[index];
+        // The leaf's geometry (its triangles clipped to its cell: tighter than the cell, and what
+        // a hit that matters lies in) against the packet's interval bounds (test (2)), then
+        // against each active ray's current segment.
+        const Box& box = m.geometry_boxes[index];
         const std::uint32_t count = node.triangle_count();
-        // The leaf box against the packet's interval bounds (test (2)), then against each active
-        // ray's current segment.
         if (count > 0 && !packet_misses_box(pb, box, c0, reach) && m.lane_box(slabs, wp.tfar, wp.active, box) != 0) {
             const std::uint32_t* leaf = ids + node.offset();
             const Triangle* corners = tris + node.offset();

@@ -37,7 +37,7 @@ Mlrta::Mlrta(const KdTree& tree, const MlrtaSettings& settings) {
     auto impl = std::make_shared<Impl>(tree, settings);
     impl->subtree_nodes = mlrta::subtree_sizes(tree.impl());
     impl->covered_leaf = mlrta::covered_flat_leaves(tree.impl());
-    impl->node_boxes = mlrta::node_boxes(tree.impl());
+    impl->geometry_boxes = mlrta::leaf_geometry_boxes(tree.impl());
     impl_ = std::move(impl);
 }
 
@@ -45,7 +45,7 @@ const MlrtaSettings& Mlrta::settings() const { return impl_->settings; }
 const KdTree& Mlrta::tree() const { return impl_->tree; }
 std::size_t Mlrta::memory_bytes() const {
     return impl_->subtree_nodes.size() * sizeof(std::uint32_t) + impl_->covered_leaf.size() +
-           impl_->node_boxes.size() * sizeof(Box);
+           impl_->geometry_boxes.size() * sizeof(Box);
 }
 
 namespace {

@@ -14,7 +14,7 @@ struct Mlrta::Impl {
     MlrtaSettings settings;
     std::vector<std::uint32_t> subtree_nodes;  // per node: nodes in its subtree (itself included)
     std::vector<std::uint8_t> covered_leaf;    // per node: a flat leaf completely covered by its triangles
-    std::vector<Box> node_boxes;               // per node: its cell (interval traversal keeps no boxes)
+    std::vector<Box> geometry_boxes;           // per leaf: its triangles clipped to its cell (XP keeps no boxes)
     mlrta::FrustumCullKernel frustum_cull;     // same instruction set as the tree's triangle kernels
     mlrta::LaneBoxKernel lane_box;             // likewise
 

@@ -55,7 +55,7 @@ std::shared_ptr<Mlrta::Impl> make_mlrta(const KdTree& tree, const MlrtaSettings&
     auto m = std::make_shared<Mlrta::Impl>(tree, settings);
     m->subtree_nodes = subtree_sizes(tree.impl());
     m->covered_leaf = covered_flat_leaves(tree.impl());
-    m->node_boxes = node_boxes(tree.impl());
+    m->geometry_boxes = leaf_geometry_boxes(tree.impl());
     return m;
 }
 
