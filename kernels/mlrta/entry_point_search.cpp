@@ -121,23 +121,17 @@ public:
         return false;
     }
 
-    // Steps 1-3 of the paper with the bifurcation stack, in the paper's order.
-    EntryPoint run_bifurcation_stack(const EntryPoint& start) {
-        Bifurcation bif[kStackSize];
-        int top = 0;
+    // Step 1 of the paper: depth first from `start` until the first leaf with potential
+    // intersections, stacking the bifurcations (nodes whose both children the beam may enter, with
+    // the child not yet searched) on the way. False if there is no such leaf at all.
+    bool first_candidate(const EntryPoint& start, Bifurcation* bif, int& top, NodeBox& leaf) {
         NodeBox n{start.node, start.box};
-        NodeBox candidate{};
-        bool found = false;
-        // Steps 1: depth first until the first leaf with potential intersections.
         for (;;) {
             ++steps_;
-            const KdNode& node = kd_.nodes[n.node];
-            if (node.is_leaf()) {
+            if (kd_.nodes[n.node].is_leaf()) {
                 if (potential_leaf(n)) {
-                    candidate = n;
-                    found = true;
-                    if (examine(n)) return entry(n);
-                    break;
+                    leaf = n;
+                    return true;
                 }
             } else {
                 NodeBox kids[2];
@@ -149,10 +143,18 @@ public:
                 }
             }
             // A dead end: the last bifurcation had nothing in its near subtree; it is no longer one.
-            if (top == 0) break;
+            if (top == 0) return false;
             n = bif[--top].other;
         }
-        if (!found) return none(start);
+    }
+
+    // Steps 1-3 of the paper with the bifurcation stack, in the paper's order.
+    EntryPoint run_bifurcation_stack(const EntryPoint& start) {
+        Bifurcation bif[kStackSize];
+        int top = 0;
+        NodeBox candidate;
+        if (!first_candidate(start, bif, top, candidate)) return none(start);
+        if (examine(candidate)) return entry(candidate);
         // Steps 2-3: the stacked nodes from the top; a potential leaf in the other subtree makes the
         // node the candidate.
         while (top > 0) {
@@ -177,25 +179,9 @@ public:
     EntryPoint run_top_down(const EntryPoint& start) {
         Bifurcation bif[kStackSize];
         int top = 0;
-        NodeBox n{start.node, start.box};
-        for (;;) {  // step 1
-            ++steps_;
-            if (kd_.nodes[n.node].is_leaf()) {
-                if (potential_leaf(n)) break;
-            } else {
-                NodeBox kids[2];
-                const int c = children(n, kids);
-                if (c == 2) bif[top++] = Bifurcation{n, kids[1]};
-                if (c > 0) {
-                    n = kids[0];
-                    continue;
-                }
-            }
-            // A dead end: the last bifurcation had nothing in its near subtree; it is no longer one.
-            if (top == 0) return none(start);
-            n = bif[--top].other;
-        }
-        if (examine(n)) return entry(n);
+        NodeBox first;
+        if (!first_candidate(start, bif, top, first)) return none(start);
+        if (examine(first)) return entry(first);
         for (int i = 0; i < top; ++i) {  // the bifurcations on L's path, shallowest first
             NodeBox leaf;
             if (first_potential_leaf(bif[i].other, leaf)) {
@@ -203,7 +189,7 @@ public:
                 return entry(bif[i].node);
             }
         }
-        return entry(n);
+        return entry(first);
     }
 
 private:
