@@ -3,21 +3,18 @@
 // make_watertight_ray (compares, selects, and divisions, which round the same in any width).
 #include <bit>
 
-#include <xsimd/xsimd.hpp>
-
+#include "common/sse_lanes.hpp"
 #include "common/watertight_ray.hpp"
 
 namespace beamtrace {
 
 WatertightPacket16 make_watertight_packet(const Packet16& p) {
-    using B = xsimd::batch<float, xsimd::sse4_2>;
+    using B = sse::Floats;
     constexpr int W = int(B::size);
     WatertightPacket16 w;
-    const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
     const B zero(0.0f), one(1.0f), two(2.0f);
     for (int base = 0; base < 16; base += W) {
-        const xsimd::batch_bool<float, xsimd::sse4_2> on =
-            _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(int(p.active >> base)), bit), bit));
+        const sse::Mask on = sse::lanes_on(p.active >> base);
         // Inactive lanes: direction (0, 0, 1), harmless values.
         const B dx = xsimd::select(on, B::load_unaligned(p.dir_x + base), zero);
         const B dy = xsimd::select(on, B::load_unaligned(p.dir_y + base), zero);

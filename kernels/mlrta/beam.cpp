@@ -2,9 +2,8 @@
 
 #include <cmath>
 
-#include <xsimd/xsimd.hpp>
-
 #include "common/ray_validity.hpp"
+#include "common/sse_lanes.hpp"
 
 namespace beamtrace::mlrta {
 
@@ -55,8 +54,10 @@ void Beam::add(const Ray& ray) {
 
 namespace {
 
-using Lanes = xsimd::batch<float, xsimd::sse4_2>;  // the library's baseline instruction set
-using LaneMask = xsimd::batch_bool<float, xsimd::sse4_2>;
+using Lanes = sse::Floats;  // the library's baseline instruction set
+using LaneMask = sse::Mask;
+using sse::bits_of;
+using sse::lanes_on;
 constexpr int kLanes = int(Lanes::size);
 
 // Running minimum and maximum over the selected lanes of 16 values.
@@ -75,13 +76,6 @@ struct LaneRange {
         return r;
     }
 };
-
-std::uint32_t bits_of(const LaneMask& m) { return std::uint32_t(_mm_movemask_ps(m)); }
-
-LaneMask lanes_on(std::uint32_t four_bits) {
-    const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
-    return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(int(four_bits)), bit), bit));
-}
 
 }  // namespace
 

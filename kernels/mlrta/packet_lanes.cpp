@@ -2,24 +2,18 @@
 
 #include <cfloat>
 
-#include <xsimd/xsimd.hpp>
-
 #include "common/ray_validity.hpp"
+#include "common/sse_lanes.hpp"
 
 namespace beamtrace::mlrta {
 
 namespace {
 
-using B = xsimd::batch<float, xsimd::sse4_2>;
-using Mask = xsimd::batch_bool<float, xsimd::sse4_2>;
+using B = sse::Floats;
+using Mask = sse::Mask;
+using sse::bits_of;
+using sse::lanes_on;
 constexpr int W = int(B::size);
-
-Mask lanes_on(std::uint32_t four_bits) {
-    const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
-    return _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(int(four_bits)), bit), bit));
-}
-
-std::uint32_t bits_of(const Mask& m) { return std::uint32_t(_mm_movemask_ps(m)); }
 
 // std::min and std::max lane by lane: (y < x) ? y : x and (x < y) ? y : x, so that a NaN operand
 // is ignored where the lane-by-lane code ignored it (a product 0 * inf of a huge reciprocal).

@@ -1,13 +1,12 @@
 // Shadow packets traced from their light (MLRTA section 6): the packet form of reversed(), with a
 // common origin, in SSE (the library's baseline), four lanes at a time.
-#include <xsimd/xsimd.hpp>
-
 #include "beamtrace/mlrta.hpp"
+#include "common/sse_lanes.hpp"
 
 namespace beamtrace {
 
 bool reverse_towards_light(const Packet16& packet, float tolerance, Packet16& out) {
-    using B = xsimd::batch<float, xsimd::sse4_2>;
+    using B = sse::Floats;
     constexpr int W = int(B::size);
     const std::uint32_t active = packet.active & 0xFFFFu;
     if (active == 0) return false;
@@ -33,15 +32,13 @@ bool reverse_towards_light(const Packet16& packet, float tolerance, Packet16& ou
             const B end = (xsimd::abs(s - light[k]) + xsimd::abs(s) + xsimd::abs(d * tnear)) * rounding;
             ok = ok & (two * miss <= limit) & (two * end <= limit);
         }
-        fine |= std::uint32_t(_mm_movemask_ps(ok)) << base;
+        fine |= sse::bits_of(ok) << base;
     }
     if ((fine & active) != active) return false;
     float* back_org[3] = {out.org_x, out.org_y, out.org_z};
     float* back_dir[3] = {out.dir_x, out.dir_y, out.dir_z};
-    const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
     for (int base = 0; base < 16; base += W) {
-        const xsimd::batch_bool<float, xsimd::sse4_2> on =
-            _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(int(active >> base)), bit), bit));
+        const sse::Mask on = sse::lanes_on(active >> base);
         const B tnear = B::load_unaligned(packet.tnear + base), tfar = B::load_unaligned(packet.tfar + base);
         for (int k = 0; k < 3; ++k) {
             xsimd::select(on, light[k], B::load_unaligned(org[k] + base)).store_unaligned(back_org[k] + base);
