@@ -12,6 +12,7 @@ namespace {
 // The lookups lane by lane, exactly as a single-ray query makes them.
 void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::PacketLookup& out) {
     out.valid = 0;
+    out.one_tile = 0;
     for (std::uint32_t m = p.active; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
         const float s = std::fabs(p.dir_x[i]) + std::fabs(p.dir_y[i]) + std::fabs(p.dir_z[i]);
@@ -28,6 +29,10 @@ void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::Packet
         const WatertightRay w = make_watertight_ray(p.ray(i));
         out.kx[i] = w.kx; out.ky[i] = w.ky; out.kz[i] = w.kz;
         out.sx[i] = w.sx; out.sy[i] = w.sy; out.sz[i] = w.sz;
+        out.z0[i] = float(cr.oz + cr.t0 * cr.dz);
+        out.z1[i] = float(cr.oz + cr.t1 * cr.dz);
+        out.footprint[i] = vlf::ray_footprint(vlf::FootprintLattice::of_tile(f.grid, cr.column, cr.row), cr, cr.t0, cr.t1);
+        out.one_tile |= std::uint32_t(vlf::segment_in_first_tile<false>(f.grid, cr)) << i;
         out.valid |= 1u << i;
     }
 }
@@ -40,6 +45,7 @@ void lookup_packet(const VisibilityField::Impl& f, const Packet16& p, PacketLook
     if (f.simd->lookup_packet) f.simd->lookup_packet(f.lookup.tables, p, out);
     else lookup_lanes(f, p, out);
     out.valid &= segment_lanes(p);  // rays that describe no segment report nothing
+    out.one_tile &= out.valid;
 }
 
 void start_packet(const VisibilityField::Impl& f, const Packet16& p, PacketStart& s) {

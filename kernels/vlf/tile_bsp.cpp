@@ -18,8 +18,8 @@ std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vecto
     block.reserve(splits_.size() + ends_.size() + 2 * ids_.size());
     for (float s : splits_) block.push_back(std::bit_cast<std::uint32_t>(s));
     block.insert(block.end(), ends_.begin(), ends_.end());
-    block.insert(block.end(), ids_.begin(), ids_.end());
     block.insert(block.end(), footprints_.begin(), footprints_.end());
+    block.insert(block.end(), ids_.begin(), ids_.end());
     return leaves;
 }
 

@@ -3,10 +3,12 @@
 // (constant canonical z), chosen as medians; a triangle goes to every leaf its (clipped, padded)
 // depth range overlaps. The leaves are stored flat, in depth order, in one block of 32-bit words:
 //
-//     [ split_0 .. split_{m-2} ]  [ end_0 .. end_{m-1} ]  [ ids ... ]  [ footprints ... ]
+//     [ split_0 .. split_{m-2} ]  [ end_0 .. end_{m-1} ]  [ footprints ... ]  [ ids ... ]
 //       float bits, ascending      leaf j holds entries end_{j-1} .. end_j - 1 (end_{-1} = 0);
 //                                  footprints[k] (tile_footprint.hpp) belongs to ids[k], and the
-//                                  footprints of a run of leaves are one run of memory for SIMD
+//                                  footprints of a run of leaves are one run of memory for SIMD.
+//                                  Footprints come first: every query reads them, right after the
+//                                  splits and ends, while it reads only the ids of passing entries.
 //
 // Leaf j covers depths [split_{j-1}, split_j] (the first and last are open-ended), so the first
 // and last leaf a ray segment needs follow from the depths of its two ends (section 4, Figure 3).
@@ -34,11 +36,11 @@ struct TileBspView {
 
     float split(std::uint32_t j) const { return std::bit_cast<float>(block[j]); }  // j < leaves - 1
     const std::uint32_t* ends() const { return block + (leaves - 1); }
-    const std::uint32_t* ids() const { return block + (leaves - 1) + leaves; }
     std::uint32_t begin(std::uint32_t j) const { return j == 0 ? 0 : ends()[j - 1]; }
     std::uint32_t end(std::uint32_t j) const { return ends()[j]; }
     std::uint32_t entries() const { return end(leaves - 1); }
-    const std::uint32_t* footprints() const { return ids() + entries(); }
+    const std::uint32_t* footprints() const { return block + (leaves - 1) + leaves; }
+    const std::uint32_t* ids() const { return footprints() + entries(); }
     // The leaf whose depth range holds z (the lower one when z is a split): the number of splits
     // below z, counted four at a time. z is compared as a float; where that rounding moves it
     // across a split, the triangles near z (padded far more than a float's rounding) are in both.

@@ -1,0 +1,202 @@
+// TileRayBins: one-tile rays of binned occlusion streams, binned per PSF, ordered by tile and traced
+// in batches of 16 (see tile_ray_stream.hpp).
+#include "vlf/tile_ray_stream.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include <immintrin.h>
+
+#include "vlf/tile_walk.hpp"
+
+namespace beamtrace::vlf {
+
+TileRayBins& TileRayBins::local() {
+    thread_local TileRayBins bins;
+    return bins;
+}
+
+void TileRayBins::begin(std::size_t psfs, std::size_t rays) {
+    const std::size_t chunks = (rays + kChunk - 1) / kChunk + psfs;
+    if (pool_size_ < chunks * kChunk) {
+        pool_size_ = chunks * kChunk;
+        pool_ = std::make_unique<TileRay[]>(pool_size_);
+    }
+    chunks_ = 0;
+    link_.resize(chunks);
+    last_.assign(psfs, kNone);
+    fill_.assign(psfs, 0);
+    count_.assign(psfs, 0);
+}
+
+bool TileRayBins::take(const VisibilityField::Impl& f, const Packet16& p, const PacketLookup& l, int i,
+                       std::uint32_t slot, VlfMode mode) {
+    if (mode == VlfMode::exact && !((l.one_tile >> i) & 1u)) return false;
+    const std::uint32_t psf = l.psf[i];
+    if (last_[psf] == kNone || fill_[psf] == kChunk) {
+        link_[chunks_] = last_[psf];
+        last_[psf] = chunks_++;
+        fill_[psf] = 0;
+    }
+    TileRay r;
+    r.tile = std::uint32_t(l.row[i]) * std::uint32_t(f.grid.n) + std::uint32_t(l.column[i]);
+    r.slot = slot;
+    r.z0 = l.z0[i];
+    r.z1 = l.z1[i];
+    r.footprint = l.footprint[i];
+    const float o[3] = {p.org_x[i], p.org_y[i], p.org_z[i]};
+    r.kx = l.kx[i]; r.ky = l.ky[i]; r.kz = l.kz[i];
+    r.okx = o[r.kx]; r.oky = o[r.ky]; r.okz = o[r.kz];
+    r.sx = l.sx[i]; r.sy = l.sy[i]; r.sz = l.sz[i];
+    r.tnear = p.tnear[i];
+    r.tfar = p.tfar[i];
+    // One streaming store of the whole line: the pool is far larger than the caches, and a plain
+    // store would first read the line it overwrites.
+    auto* to = reinterpret_cast<__m128i*>(&pool_[std::size_t(last_[psf]) * kChunk + fill_[psf]++]);
+    const auto* from = reinterpret_cast<const __m128i*>(&r);
+    for (int k = 0; k < 4; ++k) _mm_stream_si128(to + k, _mm_load_si128(from + k));
+    ++count_[psf];
+    return true;
+}
+
+void TileRayBins::trace(const VisibilityField::Impl& f, std::span<std::uint32_t> occluded) {
+    const auto n = std::uint32_t(f.grid.n);
+    for (std::size_t psf = 0; psf < last_.size(); ++psf) {
+        const std::size_t m = count_[psf];
+        if (m == 0) continue;
+        if (sorted_size_ < m) {
+            sorted_size_ = std::max<std::size_t>(m, 2 * sorted_size_);
+            sorted_[0] = std::make_unique<TileRay[]>(sorted_size_);
+            sorted_[1] = std::make_unique<TileRay[]>(sorted_size_);
+        }
+        // Counting sort by column out of the chunks, then by row (stable): tiles in row-major order,
+        // the order of their blocks in the pool.
+        auto each = [&](auto&& g) {
+            for (std::uint32_t c = last_[psf]; c != kNone; c = link_[c]) {
+                const std::uint32_t size = c == last_[psf] ? fill_[psf] : kChunk;
+                for (std::uint32_t k = 0; k < size; ++k) g(pool_[std::size_t(c) * kChunk + k]);
+            }
+        };
+        TileRay* by_column = sorted_[0].get();
+        TileRay* by_row = sorted_[1].get();
+        next_.assign(std::size_t(n) + 1, 0);
+        each([&](const TileRay& r) { ++next_[r.tile % n + 1]; });
+        for (std::uint32_t b = 0; b < n; ++b) next_[b + 1] += next_[b];
+        each([&](const TileRay& r) { by_column[next_[r.tile % n]++] = r; });
+        next_.assign(std::size_t(n) + 1, 0);
+        for (std::size_t k = 0; k < m; ++k) ++next_[by_column[k].tile / n + 1];
+        for (std::uint32_t b = 0; b < n; ++b) next_[b + 1] += next_[b];
+        for (std::size_t k = 0; k < m; ++k) by_row[next_[by_column[k].tile / n]++] = by_column[k];
+        trace_psf(f, f.psf(std::uint32_t(psf)), std::span<const TileRay>(by_row, m), occluded);
+    }
+}
+
+void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfield& psf, std::span<const TileRay> rays,
+                            std::span<std::uint32_t> occluded) {
+    const std::size_t batches = (rays.size() + 15) / 16;
+    const Triangle* triangles = f.triangles.data();
+    const VlfKernels& kernels = *f.simd;
+    auto range = [&](std::size_t b) {
+        return std::pair<std::size_t, std::size_t>{16 * b, std::min(rays.size(), 16 * b + 16)};
+    };
+    // Stage 1: the tile entries.
+    auto request_entries = [&](std::size_t b) {
+        const auto [first, end] = range(b);
+        for (std::size_t i = first; i < end; ++i) psf.prefetch_tile(rays[i].tile);
+    };
+    // Stage 2: the splits and leaf ends at the head of each block.
+    auto request_heads = [&](std::size_t b) {
+        const auto [first, end] = range(b);
+        for (std::size_t i = first; i < end; ++i) {
+            if (i > first && rays[i].tile == rays[i - 1].tile) continue;
+            const TileRef ref = psf.tile(rays[i].tile);
+            if (ref.leaves) psf.prefetch_block(ref, 0, 2 * ref.leaves - 1);
+        }
+    };
+    struct Stage {
+        TileRayBatch batch;
+        const std::uint32_t* footprints[16];
+        const std::uint32_t* ids[16];
+        std::uint32_t count[16];
+        bool distinct[16];
+        std::uint32_t pairs = 0;
+    };
+    Stage ring[4];
+    // Stage 3: each ray's leaves, and the footprints and ids of their entries requested.
+    auto request_entries_of_leaves = [&](std::size_t b) {
+        const auto [first, end] = range(b);
+        Stage& s = ring[b % 4];
+        for (std::size_t i = first; i < end; ++i) {
+            const TileRay& r = rays[i];
+            const std::size_t lane = i - first;
+            s.count[lane] = 0;
+            const TileRef ref = psf.tile(r.tile);
+            if (ref.leaves == 0) continue;
+            const TileBspView bsp = psf.view(ref);
+            std::uint32_t j0 = 0, j1 = 0;
+            if (ref.leaves > 1) {
+                j0 = bsp.leaf(r.z0);
+                j1 = bsp.leaf(r.z1);
+                if (j0 > j1) std::swap(j0, j1);
+            }
+            const std::uint32_t e0 = bsp.begin(j0), count = bsp.end(j1) - e0;
+            s.footprints[lane] = bsp.footprints() + e0;
+            s.ids[lane] = bsp.ids() + e0;
+            s.count[lane] = count;
+            s.distinct[lane] = j0 == j1;
+            const char* a = reinterpret_cast<const char*>(s.footprints[lane]);
+            const char* c = reinterpret_cast<const char*>(s.ids[lane]);
+            for (std::uint32_t k = 0; k < 4 * count + 63; k += 64) {
+                _mm_prefetch(a + k, _MM_HINT_T0);
+                _mm_prefetch(c + k, _MM_HINT_T0);
+            }
+        }
+    };
+    // Stage 4: the candidates, and their triangles requested.
+    auto candidates = [&](std::size_t b) {
+        const auto [first, end] = range(b);
+        Stage& s = ring[b % 4];
+        std::vector<std::uint32_t>& ids = ids_[b & 1];
+        std::vector<std::uint32_t>& lanes = lanes_[b & 1];
+        TileRayBatch& t = s.batch;
+        t.count = std::uint32_t(end - first);
+        std::uint32_t found = 0;
+        for (std::uint32_t lane = 0; lane < t.count; ++lane) {
+            t.set(lane, rays[first + lane]);
+            const std::uint32_t count = s.count[lane];
+            if (count == 0) continue;
+            if (ids.size() < found + count + 16) {
+                ids.resize(2 * (found + count + 16));
+                lanes.resize(ids.size());
+            }
+            found += kernels.batch_candidates(s.footprints[lane], s.ids[lane], count, rays[first + lane].footprint,
+                                              s.distinct[lane], lane, ids.data() + found, lanes.data() + found);
+        }
+        s.pairs = found;
+        for (std::uint32_t p = 0; p < found; ++p) {
+            const char* a = reinterpret_cast<const char*>(triangles + ids[p]);
+            _mm_prefetch(a, _MM_HINT_T0);
+            _mm_prefetch(a + sizeof(Triangle) - 1, _MM_HINT_T0);
+        }
+    };
+    // Stage 5: the test.
+    auto test = [&](std::size_t b) {
+        const Stage& s = ring[b % 4];
+        const std::uint32_t bits =
+            kernels.batch_test(s.batch, triangles, ids_[b & 1].data(), lanes_[b & 1].data(), s.pairs, 0);
+        for (std::uint32_t m = bits; m; m &= m - 1) {
+            const std::uint32_t slot = s.batch.slot[__builtin_ctz(m)];
+            occluded[slot / 16] |= 1u << (slot % 16);
+        }
+    };
+    // Batch b is tested while b + 1 is scanned, ... , b + 4 has its tile entries requested.
+    for (std::size_t b = 0; b < batches + 4; ++b) {
+        if (b < batches) request_entries(b);
+        if (b >= 1 && b - 1 < batches) request_heads(b - 1);
+        if (b >= 2 && b - 2 < batches) request_entries_of_leaves(b - 2);
+        if (b >= 3 && b - 3 < batches) candidates(b - 3);
+        if (b >= 4) test(b - 4);
+    }
+}
+
+}  // namespace beamtrace::vlf

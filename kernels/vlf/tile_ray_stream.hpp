@@ -1,0 +1,61 @@
+#pragma once
+// The rays of a binned occlusion stream (ray_stream.cpp) whose segments stay in the tile where they
+// start (section 7: AO rays along PSF directions; in mode fast, every ray), traced in batches of 16
+// (tile_ray_batch.hpp) instead of one walk each. The stream's first pass hands each looked-up ray
+// to take(); the ones it keeps go, as 64-byte TileRays, into per-PSF bins (chunks of a per-thread
+// pool kept from one call to the next, so that a timed pass does not pay for fresh pages); trace()
+// then orders each bin by tile (counting sorts: column, then row) and traces it as a pipeline:
+//
+//   batch b + 3: the rays' tile entries requested from memory;
+//   batch b + 2: the entries read, the first words of the tiles' blocks requested;
+//   batch b + 1: the candidates (leaves, footprint scan) made, their triangles requested;
+//   batch b:     the candidates tested.
+//
+// No lookup is made twice: a TileRay holds the leaf depths, the footprint and the watertight
+// set-up its lookup gave.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "beamtrace/vlf.hpp"
+#include "vlf/packet_lookup.hpp"
+#include "vlf/tile_ray_batch.hpp"
+#include "vlf/vlf_impl.hpp"
+
+namespace beamtrace::vlf {
+
+class TileRayBins {
+public:
+    // The calling thread's bins.
+    static TileRayBins& local();
+
+    // Empties the bins, for a stream of at most `rays` rays over `psfs` PSFs.
+    void begin(std::size_t psfs, std::size_t rays);
+    // Lane i of a looked-up packet (valid in l), slot its place in the stream: true if kept (its
+    // segment lies in its first tile; in mode fast, always).
+    bool take(const VisibilityField::Impl& f, const Packet16& p, const PacketLookup& l, int i, std::uint32_t slot,
+              VlfMode mode);
+    // Traces the kept rays; sets bit slot % 16 of occluded[slot / 16] for each occluded one.
+    void trace(const VisibilityField::Impl& f, std::span<std::uint32_t> occluded);
+
+private:
+    static constexpr std::uint32_t kChunk = 256;
+    static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+    void trace_psf(const VisibilityField::Impl& f, const ParallelSubfield& psf, std::span<const TileRay> rays,
+                   std::span<std::uint32_t> occluded);
+
+    std::unique_ptr<TileRay[]> pool_;  // chunks of kChunk rays
+    std::size_t pool_size_ = 0;
+    std::uint32_t chunks_ = 0;
+    std::vector<std::uint32_t> link_;   // chunk -> the PSF's previous chunk (kNone: first)
+    std::vector<std::uint32_t> last_;   // PSF -> its newest chunk (kNone: none)
+    std::vector<std::uint32_t> fill_;   // PSF -> rays in its newest chunk
+    std::vector<std::uint32_t> count_;  // PSF -> rays
+    std::unique_ptr<TileRay[]> sorted_[2];  // a bin ordered by column, then by row
+    std::size_t sorted_size_ = 0;
+    std::vector<std::uint32_t> next_;   // counting sort
+    std::vector<std::uint32_t> ids_[2], lanes_[2];  // candidate pairs of two batches
+};
+
+}  // namespace beamtrace::vlf
