@@ -42,16 +42,17 @@ struct TileBspView {
     const std::uint32_t* footprints() const { return block + (leaves - 1) + leaves; }
     const std::uint32_t* ids() const { return footprints() + entries(); }
     // The leaf whose depth range holds z (the lower one when z is a split): the number of splits
-    // below z, counted four at a time. z is compared as a float; where that rounding moves it
-    // across a split, the triangles near z (padded far more than a float's rounding) are in both.
+    // below z, by a binary search of fixed steps (the splits ascend strictly), whose selects need
+    // no branch on the data. z is compared as a float; where that rounding moves it across a
+    // split, the triangles near z (padded far more than a float's rounding) are in both leaves.
     std::uint32_t leaf(double z) const {
-        const __m128 zf = _mm_set1_ps(float(z));
+        const float zf = float(z);
         const std::uint32_t splits = leaves - 1;
-        std::uint32_t j = 0, k = 0;
-        for (; k + 4 <= splits; k += 4)
-            j += std::uint32_t(__builtin_popcount(unsigned(
-                _mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(reinterpret_cast<const float*>(block + k)), zf)))));
-        for (; k < splits; ++k) j += split(k) < float(z);
+        std::uint32_t j = 0;
+        for (std::uint32_t step = std::bit_floor(splits); step; step >>= 1) {
+            const std::uint32_t next = j + step;
+            j = next <= splits && split(next - 1) < zf ? next : j;
+        }
         return j;
     }
     std::uint32_t words() const { return (leaves - 1) + leaves + 2 * entries(); }

@@ -20,7 +20,8 @@ void TileRayBins::begin(std::size_t psfs, std::size_t rays) {
     const std::size_t chunks = (rays + kChunk - 1) / kChunk + psfs;
     if (pool_size_ < chunks * kChunk) {
         pool_size_ = chunks * kChunk;
-        pool_ = std::make_unique<TileRay[]>(pool_size_);
+        pool_ = std::make_unique<TileRay[]>(pool_size_ + 8);  // + 8: read ahead
+        keys_ = std::make_unique<std::uint32_t[]>(pool_size_);
     }
     chunks_ = 0;
     link_.resize(chunks);
@@ -52,7 +53,9 @@ bool TileRayBins::take(const VisibilityField::Impl& f, const Packet16& p, const 
     r.tfar = p.tfar[i];
     // One streaming store of the whole line: the pool is far larger than the caches, and a plain
     // store would first read the line it overwrites.
-    auto* to = reinterpret_cast<__m128i*>(&pool_[std::size_t(last_[psf]) * kChunk + fill_[psf]++]);
+    const std::size_t at = std::size_t(last_[psf]) * kChunk + fill_[psf]++;
+    keys_[at] = r.tile;
+    auto* to = reinterpret_cast<__m128i*>(&pool_[at]);
     const auto* from = reinterpret_cast<const __m128i*>(&r);
     for (int k = 0; k < 4; ++k) _mm_stream_si128(to + k, _mm_load_si128(from + k));
     ++count_[psf];
@@ -69,24 +72,41 @@ void TileRayBins::trace(const VisibilityField::Impl& f, std::span<std::uint32_t>
             sorted_[0] = std::make_unique<TileRay[]>(sorted_size_);
             sorted_[1] = std::make_unique<TileRay[]>(sorted_size_);
         }
-        // Counting sort by column out of the chunks, then by row (stable): tiles in row-major order,
-        // the order of their blocks in the pool.
+        // Counting sort out of the chunks (the keys first, dense; then each record once, read in
+        // order): by tile where the grid is small, else by column and then by row (stable). Tiles
+        // then come in row-major order, the order of their blocks in the pool.
         auto each = [&](auto&& g) {
             for (std::uint32_t c = last_[psf]; c != kNone; c = link_[c]) {
                 const std::uint32_t size = c == last_[psf] ? fill_[psf] : kChunk;
-                for (std::uint32_t k = 0; k < size; ++k) g(pool_[std::size_t(c) * kChunk + k]);
+                const std::size_t at = std::size_t(c) * kChunk;
+                for (std::uint32_t k = 0; k < size; ++k) {
+                    _mm_prefetch(reinterpret_cast<const char*>(&pool_[at + k + 8]), _MM_HINT_T0);
+                    g(keys_[at + k], pool_[at + k]);
+                }
             }
         };
-        TileRay* by_column = sorted_[0].get();
-        TileRay* by_row = sorted_[1].get();
-        next_.assign(std::size_t(n) + 1, 0);
-        each([&](const TileRay& r) { ++next_[r.tile % n + 1]; });
-        for (std::uint32_t b = 0; b < n; ++b) next_[b + 1] += next_[b];
-        each([&](const TileRay& r) { by_column[next_[r.tile % n]++] = r; });
-        next_.assign(std::size_t(n) + 1, 0);
-        for (std::size_t k = 0; k < m; ++k) ++next_[by_column[k].tile / n + 1];
-        for (std::uint32_t b = 0; b < n; ++b) next_[b + 1] += next_[b];
-        for (std::size_t k = 0; k < m; ++k) by_row[next_[by_column[k].tile / n]++] = by_column[k];
+        TileRay* out = sorted_[1].get();
+        const std::uint32_t tiles = n * n;
+        if (tiles <= kTileSortLimit) {
+            next_.assign(std::size_t(tiles) + 1, 0);
+            for (std::uint32_t c = last_[psf]; c != kNone; c = link_[c]) {
+                const std::uint32_t size = c == last_[psf] ? fill_[psf] : kChunk;
+                for (std::uint32_t k = 0; k < size; ++k) ++next_[keys_[std::size_t(c) * kChunk + k] + 1];
+            }
+            for (std::uint32_t b = 0; b < tiles; ++b) next_[b + 1] += next_[b];
+            each([&](std::uint32_t tile, const TileRay& r) { out[next_[tile]++] = r; });
+        } else {
+            TileRay* by_column = sorted_[0].get();
+            next_.assign(std::size_t(n) + 1, 0);
+            each([&](std::uint32_t tile, const TileRay&) { ++next_[tile % n + 1]; });
+            for (std::uint32_t b = 0; b < n; ++b) next_[b + 1] += next_[b];
+            each([&](std::uint32_t tile, const TileRay& r) { by_column[next_[tile % n]++] = r; });
+            next_.assign(std::size_t(n) + 1, 0);
+            for (std::size_t k = 0; k < m; ++k) ++next_[by_column[k].tile / n + 1];
+            for (std::uint32_t b = 0; b < n; ++b) next_[b + 1] += next_[b];
+            for (std::size_t k = 0; k < m; ++k) out[next_[by_column[k].tile / n]++] = by_column[k];
+        }
+        const TileRay* by_row = out;
         trace_psf(f, f.psf(std::uint32_t(psf)), std::span<const TileRay>(by_row, m), occluded);
     }
 }
@@ -121,11 +141,11 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
         bool distinct[16];
         std::uint32_t pairs = 0;
     };
-    Stage ring[4];
+    Stage ring[8];
     // Stage 3: each ray's leaves, and the footprints and ids of their entries requested.
     auto request_entries_of_leaves = [&](std::size_t b) {
         const auto [first, end] = range(b);
-        Stage& s = ring[b % 4];
+        Stage& s = ring[b % 8];
         for (std::size_t i = first; i < end; ++i) {
             const TileRay& r = rays[i];
             const std::size_t lane = i - first;
@@ -155,7 +175,7 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
     // Stage 4: the candidates, and their triangles requested.
     auto candidates = [&](std::size_t b) {
         const auto [first, end] = range(b);
-        Stage& s = ring[b % 4];
+        Stage& s = ring[b % 8];
         std::vector<std::uint32_t>& ids = ids_[b & 1];
         std::vector<std::uint32_t>& lanes = lanes_[b & 1];
         TileRayBatch& t = s.batch;
@@ -181,7 +201,7 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
     };
     // Stage 5: the test.
     auto test = [&](std::size_t b) {
-        const Stage& s = ring[b % 4];
+        const Stage& s = ring[b % 8];
         const std::uint32_t bits =
             kernels.batch_test(s.batch, triangles, ids_[b & 1].data(), lanes_[b & 1].data(), s.pairs, 0);
         for (std::uint32_t m = bits; m; m &= m - 1) {
@@ -189,13 +209,15 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
             occluded[slot / 16] |= 1u << (slot % 16);
         }
     };
-    // Batch b is tested while b + 1 is scanned, ... , b + 4 has its tile entries requested.
-    for (std::size_t b = 0; b < batches + 4; ++b) {
+    // Batch b is tested while b + 1 is scanned, b + 2 has its leaves' entries requested, b + 4 its
+    // blocks' heads, b + 6 its tile entries (distances measured on the bunny's AO rays).
+    constexpr std::size_t H = 2, L = 4, C = 5, T = C + 1;
+    for (std::size_t b = 0; b < batches + T; ++b) {
         if (b < batches) request_entries(b);
-        if (b >= 1 && b - 1 < batches) request_heads(b - 1);
-        if (b >= 2 && b - 2 < batches) request_entries_of_leaves(b - 2);
-        if (b >= 3 && b - 3 < batches) candidates(b - 3);
-        if (b >= 4) test(b - 4);
+        if (b >= H && b - H < batches) request_heads(b - H);
+        if (b >= L && b - L < batches) request_entries_of_leaves(b - L);
+        if (b >= C && b - C < batches) candidates(b - C);
+        if (b >= T) test(b - T);
     }
 }
 

@@ -45,7 +45,10 @@ private:
     void trace_psf(const VisibilityField::Impl& f, const ParallelSubfield& psf, std::span<const TileRay> rays,
                    std::span<std::uint32_t> occluded);
 
-    std::unique_ptr<TileRay[]> pool_;  // chunks of kChunk rays
+    // Grids of at most this many tiles are sorted by tile in one pass, larger ones by column and row.
+    static constexpr std::uint32_t kTileSortLimit = 1u << 16;
+    std::unique_ptr<TileRay[]> pool_;        // chunks of kChunk rays
+    std::unique_ptr<std::uint32_t[]> keys_;  // their tiles, dense
     std::size_t pool_size_ = 0;
     std::uint32_t chunks_ = 0;
     std::vector<std::uint32_t> link_;   // chunk -> the PSF's previous chunk (kNone: first)
