@@ -65,7 +65,8 @@ struct alignas(64) PacketLookup {
     }
 };
 
-using LookupPacketFn = void (*)(const LookupTables& tables, const Packet16& packet, PacketLookup& out);
+// first_tiles: also z0, z1, footprint and one_tile (else those are left unset and one_tile is 0).
+using LookupPacketFn = void (*)(const LookupTables& tables, const Packet16& packet, PacketLookup& out, bool first_tiles);
 
 // The tables of a field's direction set, frames, grid and box (the vector keeps the frames).
 struct LookupStorage {

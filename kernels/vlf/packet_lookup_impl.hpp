@@ -155,7 +155,7 @@ void first_tiles(const LookupTables& t, const xsimd::batch<double, Arch>* co, co
 
 template <class Arch>
 void canonical_rays(const LookupTables& t, const double (*in)[16], const std::int64_t* psf, bool one_psf, int base,
-                    PacketLookup& out, double* ok, double* cell_x, double* cell_y, double* one_tile,
+                    PacketLookup& out, double* ok, double* cell_x, double* cell_y, bool first, double* one_tile,
                     double* footprint) {
     using BD = xsimd::batch<double, Arch>;
     using BL = xsimd::batch<std::int64_t, Arch>;
@@ -209,11 +209,11 @@ void canonical_rays(const LookupTables& t, const double (*in)[16], const std::in
         cell[axis].store_aligned((axis == 0 ? cell_x : cell_y) + base);
     }
     xsimd::select(good, BD(1.0), zero).store_aligned(ok + base);
-    first_tiles<Arch>(t, co, cd, t0, t1, cell, base, out, one_tile, footprint);
+    if (first) first_tiles<Arch>(t, co, cd, t0, t1, cell, base, out, one_tile, footprint);
 }
 
 template <class Arch>
-void lookup_packet_simd(const LookupTables& t, const Packet16& p, PacketLookup& out) {
+void lookup_packet_simd(const LookupTables& t, const Packet16& p, PacketLookup& out, bool first_tiles) {
     constexpr int WF = int(xsimd::batch<float, Arch>::size), WD = int(xsimd::batch<double, Arch>::size);
     alignas(64) std::int32_t psf[16];
     alignas(64) float dir_ok[16];
@@ -230,14 +230,15 @@ void lookup_packet_simd(const LookupTables& t, const Packet16& p, PacketLookup& 
     }
     alignas(64) double ray_ok[16], cell_x[16], cell_y[16], one_tile[16], footprint[16];
     for (int base = 0; base < 16; base += WD)
-        canonical_rays<Arch>(t, in, psf64, one_psf, base, out, ray_ok, cell_x, cell_y, one_tile, footprint);
+        canonical_rays<Arch>(t, in, psf64, one_psf, base, out, ray_ok, cell_x, cell_y, first_tiles, one_tile, footprint);
     std::uint32_t valid = 0, in_tile = 0;
     for (int i = 0; i < 16; ++i) {
         out.psf[i] = std::uint32_t(psf[i]);
         out.column[i] = std::int32_t(cell_x[i]);
         out.row[i] = std::int32_t(cell_y[i]);
-        out.footprint[i] = std::uint32_t(std::int64_t(footprint[i]));
         valid |= std::uint32_t(dir_ok[i] != 0.0f && ray_ok[i] != 0.0) << i;
+        if (!first_tiles) continue;
+        out.footprint[i] = std::uint32_t(std::int64_t(footprint[i]));
         in_tile |= std::uint32_t(one_tile[i] != 0.0) << i;
     }
     out.valid = valid & p.active;

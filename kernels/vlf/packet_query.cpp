@@ -10,7 +10,7 @@ namespace beamtrace {
 namespace {
 
 // The lookups lane by lane, exactly as a single-ray query makes them.
-void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::PacketLookup& out) {
+void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::PacketLookup& out, bool first_tiles) {
     out.valid = 0;
     out.one_tile = 0;
     for (std::uint32_t m = p.active; m; m &= m - 1) {
@@ -29,11 +29,12 @@ void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::Packet
         const WatertightRay w = make_watertight_ray(p.ray(i));
         out.kx[i] = w.kx; out.ky[i] = w.ky; out.kz[i] = w.kz;
         out.sx[i] = w.sx; out.sy[i] = w.sy; out.sz[i] = w.sz;
+        out.valid |= 1u << i;
+        if (!first_tiles) continue;
         out.z0[i] = float(cr.oz + cr.t0 * cr.dz);
         out.z1[i] = float(cr.oz + cr.t1 * cr.dz);
         out.footprint[i] = vlf::ray_footprint(vlf::FootprintLattice::of_tile(f.grid, cr.column, cr.row), cr, cr.t0, cr.t1);
         out.one_tile |= std::uint32_t(vlf::segment_in_first_tile<false>(f.grid, cr)) << i;
-        out.valid |= 1u << i;
     }
 }
 
@@ -41,9 +42,9 @@ void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::Packet
 
 namespace vlf {
 
-void lookup_packet(const VisibilityField::Impl& f, const Packet16& p, PacketLookup& out) {
-    if (f.simd->lookup_packet) f.simd->lookup_packet(f.lookup.tables, p, out);
-    else lookup_lanes(f, p, out);
+void lookup_packet(const VisibilityField::Impl& f, const Packet16& p, PacketLookup& out, bool first_tiles) {
+    if (f.simd->lookup_packet) f.simd->lookup_packet(f.lookup.tables, p, out, first_tiles);
+    else lookup_lanes(f, p, out, first_tiles);
     out.valid &= segment_lanes(p);  // rays that describe no segment report nothing
     out.one_tile &= out.valid;
 }

@@ -101,7 +101,7 @@ void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, W
     vlf::PacketLookup lookup;
     if (tiles) tiles->begin(psfs, packets.size() * 16);
     for (std::size_t p = 0; p < packets.size(); ++p) {
-        vlf::lookup_packet(f, packets[p], lookup);
+        vlf::lookup_packet(f, packets[p], lookup, tiles != nullptr);
         for (std::uint32_t m = lookup.valid; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
             if (tiles && tiles->take(f, packets[p], lookup, i, std::uint32_t(p * 16 + std::size_t(i)), mode)) continue;

@@ -287,7 +287,7 @@ private:
     Hit best_;
     static constexpr std::uint32_t kListed = 32;
     static constexpr std::uint32_t kScanChunk = 128;  // entries scanned per call of the kernel
-    std::uint32_t listed_ids_[kListed];  // ids tested in the first leaf, before the mailbox
+    std::uint32_t listed_ids_[kListed + 16];  // ids tested in the first leaf, before the mailbox (+ 16: TestedIds)
     std::uint32_t listed_ = 0;
     std::uint64_t listed_filter_[4] = {0, 0, 0, 0};  // bit (id & 255) set: id may be listed
     bool distinct_ = true;  // every id met so far came from one leaf (no repeats possible)

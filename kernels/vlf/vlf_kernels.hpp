@@ -33,15 +33,15 @@ struct VlfKernels {
 const VlfKernels& vlf_kernels(Isa isa);
 
 namespace simd_sse42 {
-void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&);
+void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&, bool);
 std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t*);
 }  // namespace simd_sse42
 namespace simd_avx2 {
-void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&);
+void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&, bool);
 std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t*);
 }  // namespace simd_avx2
 namespace simd_avx512 {
-void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&);
+void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&, bool);
 std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t*);
 EntriesAnswer occlude_entries(const WatertightRay&, const Triangle*, const std::uint32_t*, const std::uint32_t*,
                               std::uint32_t, std::uint32_t, bool, std::uint32_t*);
