@@ -27,19 +27,16 @@ inline constexpr int kCopiedCorners = 6;  // at most this many triangles are cop
     const int kx = ray.kx, ky = ray.ky, kz = ray.kz;
     simd::Corners<xsimd::avx512bw> k;
     if (__builtin_popcount(lanes) <= kCopiedCorners) {
-        alignas(64) float comp[9][16];
-        for (auto& row : comp) _mm512_store_ps(row, _mm512_setzero_ps());
+        alignas(64) float comp[9][16];  // only the lanes in `lanes` are written, and read
         for (std::uint32_t m = lanes; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
             const float* v = &triangles[ids[i]].v0.x;
             for (int c = 0; c < 9; ++c) comp[c][i] = v[c];
         }
-        k.ax = B::load_aligned(comp[kx]) - B(o[kx]); k.ay = B::load_aligned(comp[ky]) - B(o[ky]);
-        k.az = B::load_aligned(comp[kz]) - B(o[kz]);
-        k.bx = B::load_aligned(comp[3 + kx]) - B(o[kx]); k.by = B::load_aligned(comp[3 + ky]) - B(o[ky]);
-        k.bz = B::load_aligned(comp[3 + kz]) - B(o[kz]);
-        k.cx = B::load_aligned(comp[6 + kx]) - B(o[kx]); k.cy = B::load_aligned(comp[6 + ky]) - B(o[ky]);
-        k.cz = B::load_aligned(comp[6 + kz]) - B(o[kz]);
+        auto at = [&](int c, int axis) { return B(_mm512_maskz_load_ps(lanes, comp[3 * c + axis])) - B(o[axis]); };
+        k.ax = at(0, kx); k.ay = at(0, ky); k.az = at(0, kz);
+        k.bx = at(1, kx); k.by = at(1, ky); k.bz = at(1, kz);
+        k.cx = at(2, kx); k.cy = at(2, ky); k.cz = at(2, kz);
         return k;
     }
     const __m512i at = _mm512_mullo_epi32(_mm512_maskz_loadu_epi32(lanes, ids), _mm512_set1_epi32(9));
