@@ -29,10 +29,11 @@ bool closest_entries(const WatertightRay& ray, const Triangle* triangles, const 
                      std::uint32_t ray_footprint, TestedIds& tested, Hit& best) {
     return closest_entries_avx512(ray, triangles, order, footprints, ids, count, ray_footprint, tested, best);
 }
-std::uint32_t batch_candidates(const std::uint32_t* footprints, const std::uint32_t* ids, std::uint32_t count,
-                               std::uint32_t ray_footprint, bool distinct, std::uint32_t lane, std::uint32_t* out_ids,
-                               std::uint32_t* out_lanes) {
-    return batch_candidates_avx512(footprints, ids, count, ray_footprint, distinct, lane, out_ids, out_lanes);
+std::uint32_t batch_candidates(const std::uint32_t* groups, const std::uint32_t* footprints, const std::uint32_t* ids,
+                               std::uint32_t first, std::uint32_t count, std::uint32_t ray_footprint, bool distinct,
+                               std::uint32_t lane, std::uint32_t* out_ids, std::uint32_t* out_lanes) {
+    return batch_candidates_avx512(groups, footprints, ids, first, count, ray_footprint, distinct, lane, out_ids,
+                                   out_lanes);
 }
 std::uint32_t batch_test(const TileRayBatch& rays, const Triangle* triangles, const std::uint32_t* ids,
                          const std::uint32_t* lanes, std::uint32_t count, std::uint32_t occluded) {

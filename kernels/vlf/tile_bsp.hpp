@@ -3,12 +3,18 @@
 // (constant canonical z), chosen as medians; a triangle goes to every leaf its (clipped, padded)
 // depth range overlaps. The leaves are stored flat, in depth order, in one block of 32-bit words:
 //
-//     [ split_0 .. split_{m-2} ]  [ end_0 .. end_{m-1} ]  [ footprints ... ]  [ ids ... ]
+//     [ split_0 .. split_{m-2} ]  [ end_0 .. end_{m-1} ]  [ groups ]  [ footprints ... ]  [ ids ... ]
 //       float bits, ascending      leaf j holds entries end_{j-1} .. end_j - 1 (end_{-1} = 0);
 //                                  footprints[k] (tile_footprint.hpp) belongs to ids[k], and the
 //                                  footprints of a run of leaves are one run of memory for SIMD.
 //                                  Footprints come first: every query reads them, right after the
 //                                  splits and ends, while it reads only the ids of passing entries.
+//
+// Groups (not in the paper): word g is the union of the footprints of entries 16 g .. 16 g + 15
+// (bytewise minimum of the packed words), so a ray whose footprint misses it skips those 16
+// entries unread. Within a leaf the entries are ordered along a Morton curve of their footprints'
+// centres (ties by id), which keeps a group's union small: in a dense tile (thousands of small
+// triangles, the room's desks) a ray meeting a small part of the tile reads few groups' entries.
 //
 // Leaf j covers depths [split_{j-1}, split_j] (the first and last are open-ended), so the first
 // and last leaf a ray segment needs follow from the depths of its two ends (section 4, Figure 3).
@@ -39,7 +45,10 @@ struct TileBspView {
     std::uint32_t begin(std::uint32_t j) const { return j == 0 ? 0 : ends()[j - 1]; }
     std::uint32_t end(std::uint32_t j) const { return ends()[j]; }
     std::uint32_t entries() const { return end(leaves - 1); }
-    const std::uint32_t* footprints() const { return block + (leaves - 1) + leaves; }
+    static constexpr std::uint32_t kGroup = 16;  // entries per group
+    std::uint32_t groups_count() const { return (entries() + kGroup - 1) / kGroup; }
+    const std::uint32_t* groups() const { return block + (leaves - 1) + leaves; }
+    const std::uint32_t* footprints() const { return groups() + groups_count(); }
     const std::uint32_t* ids() const { return footprints() + entries(); }
     // The leaf whose depth range holds z (the lower one when z is a split): the number of splits
     // below z, by a binary search of fixed steps (the splits ascend strictly), whose selects need
@@ -55,7 +64,7 @@ struct TileBspView {
         }
         return j;
     }
-    std::uint32_t words() const { return (leaves - 1) + leaves + 2 * entries(); }
+    std::uint32_t words() const { return (leaves - 1) + leaves + groups_count() + 2 * entries(); }
 };
 
 class TileBspBuilder {
@@ -75,12 +84,17 @@ public:
 
 private:
     void node(int level, float lo, float hi);
+    static std::uint32_t footprint_order(std::uint32_t footprint);
+    struct Ordered {
+        std::uint32_t key, id, footprint;
+    };
 
     int depth_;
     std::vector<std::vector<DepthItem>> levels_;  // items of the node being built at each level
     std::vector<float> centres_;
     std::vector<float> splits_;
     std::vector<std::uint32_t> ends_, ids_, footprints_;
+    std::vector<Ordered> order_;
 };
 
 }  // namespace beamtrace::vlf

@@ -65,31 +65,38 @@ struct alignas(64) TileRayBatch {
     }
 };
 
-// Candidates of ray `lane`: the entries k < count whose footprint meets ray_footprint, in order, as
-// pairs (out_lanes[n], out_ids[n]) = (lane, ids[k]); returns n. Unless `distinct` (entries of one
-// leaf), an entry is dropped when an earlier passing entry of the same 16 (k / 16 equal) holds the
-// same id (a straddling triangle sits in every leaf it overlaps; repeats in other groups of 16
-// stay: testing a pair twice changes no answer). The outputs have room for count + 16.
-using BatchCandidatesFn = std::uint32_t (*)(const std::uint32_t* footprints, const std::uint32_t* ids,
-                                            std::uint32_t count, std::uint32_t ray_footprint, bool distinct,
-                                            std::uint32_t lane, std::uint32_t* out_ids, std::uint32_t* out_lanes);
+// Candidates of ray `lane` among the entries first .. first + count - 1 of a tile (groups,
+// footprints and ids as TileBspView gives them): those whose footprint meets ray_footprint, in
+// order, as pairs (out_lanes[n], out_ids[n]) = (lane, ids[k]); returns n. Entries are taken in
+// their groups of 16 (k / 16 equal); unless `distinct` (entries of one leaf), an entry is dropped
+// when an earlier passing entry of its group holds the same id (a straddling triangle sits in
+// every leaf it overlaps; repeats in other groups stay: testing a pair twice changes no answer).
+// A kernel may skip groups whose union footprint misses the ray's: they hold no passing entry.
+// The outputs have room for count + 16.
+using BatchCandidatesFn = std::uint32_t (*)(const std::uint32_t* groups, const std::uint32_t* footprints,
+                                            const std::uint32_t* ids, std::uint32_t first, std::uint32_t count,
+                                            std::uint32_t ray_footprint, bool distinct, std::uint32_t lane,
+                                            std::uint32_t* out_ids, std::uint32_t* out_lanes);
 
-inline std::uint32_t batch_candidates_scalar(const std::uint32_t* footprints, const std::uint32_t* ids,
-                                             std::uint32_t count, std::uint32_t ray_footprint, bool distinct,
-                                             std::uint32_t lane, std::uint32_t* out_ids, std::uint32_t* out_lanes) {
+inline std::uint32_t batch_candidates_scalar(const std::uint32_t* /*groups*/, const std::uint32_t* footprints,
+                                             const std::uint32_t* ids, std::uint32_t first, std::uint32_t count,
+                                             std::uint32_t ray_footprint, bool distinct, std::uint32_t lane,
+                                             std::uint32_t* out_ids, std::uint32_t* out_lanes) {
     std::uint32_t n = 0;
-    for (std::uint32_t k = 0; k < count; k += 16) {
-        const std::uint32_t group = n;
-        for (std::uint32_t e = k; e < count && e < k + 16; ++e) {
-            if (!footprints_meet(footprints[e], ray_footprint)) continue;
-            bool repeat = false;
-            if (!distinct)
-                for (std::uint32_t c = group; c < n; ++c) repeat |= out_ids[c] == ids[e];
-            if (repeat) continue;
-            out_ids[n] = ids[e];
-            out_lanes[n] = lane;
-            ++n;
+    std::uint32_t group = 0xFFFFFFFFu, group_start = 0;
+    for (std::uint32_t k = first; k < first + count; ++k) {
+        if (k / 16 != group) {
+            group = k / 16;
+            group_start = n;
         }
+        if (!footprints_meet(footprints[k], ray_footprint)) continue;
+        bool repeat = false;
+        if (!distinct)
+            for (std::uint32_t c = group_start; c < n; ++c) repeat |= out_ids[c] == ids[k];
+        if (repeat) continue;
+        out_ids[n] = ids[k];
+        out_lanes[n] = lane;
+        ++n;
     }
     return n;
 }

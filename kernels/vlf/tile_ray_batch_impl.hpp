@@ -19,30 +19,46 @@ namespace beamtrace::vlf {
 namespace {
 
 #if defined(__AVX512BW__) && defined(__AVX512CD__)
-[[maybe_unused]] std::uint32_t batch_candidates_avx512(const std::uint32_t* footprints, const std::uint32_t* ids,
+[[maybe_unused]] std::uint32_t batch_candidates_avx512(const std::uint32_t* groups, const std::uint32_t* footprints,
+                                                       const std::uint32_t* ids, std::uint32_t first,
                                                        std::uint32_t count, std::uint32_t ray_footprint,
                                                        bool distinct, std::uint32_t lane, std::uint32_t* out_ids,
                                                        std::uint32_t* out_lanes) {
     const __m512i r = _mm512_set1_epi32(int(ray_footprint));
     const __m512i l = _mm512_set1_epi32(int(lane));
+    const std::uint32_t end = first + count, g0 = first / 16, g1 = (end + 15) / 16;
     std::uint32_t n = 0;
-    for (std::uint32_t k = 0; k < count; k += 16) {
-        const __mmask16 live = count - k >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (count - k)) - 1u);
-        const __m512i f = _mm512_maskz_loadu_epi32(live, footprints + k);
+    // Group g: its entries in [first, end).
+    auto group = [&](std::uint32_t g) {
+        const std::uint32_t b = 16 * g;
+        const std::uint32_t lo = first > b ? first - b : 0, hi = end - b < 16 ? end - b : 16;
+        const __mmask16 live = __mmask16(((1u << hi) - 1u) & ~((1u << lo) - 1u));
+        const __m512i f = _mm512_maskz_loadu_epi32(live, footprints + b);
         const __mmask16 pass = _mm512_mask_cmpeq_epi32_mask(live, _mm512_max_epu8(f, r), r);
-        if (pass == 0) continue;
-        __m512i v = _mm512_maskz_compress_epi32(pass, _mm512_maskz_loadu_epi32(pass, ids + k));
+        if (pass == 0) return;
+        __m512i v = _mm512_maskz_compress_epi32(pass, _mm512_maskz_loadu_epi32(pass, ids + b));
         std::uint32_t found = std::uint32_t(__builtin_popcount(pass));
         if (!distinct && found > 1) {
             const __mmask16 valid = __mmask16((1u << found) - 1u);
             const __m512i conflicts = _mm512_maskz_conflict_epi32(valid, v);
-            const __mmask16 first = _mm512_mask_testn_epi32_mask(valid, conflicts, conflicts);
-            v = _mm512_maskz_compress_epi32(first, v);
-            found = std::uint32_t(__builtin_popcount(first));
+            const __mmask16 once = _mm512_mask_testn_epi32_mask(valid, conflicts, conflicts);
+            v = _mm512_maskz_compress_epi32(once, v);
+            found = std::uint32_t(__builtin_popcount(once));
         }
         _mm512_storeu_si512(out_ids + n, v);
         _mm512_storeu_si512(out_lanes + n, l);
         n += found;
+    };
+    if (g1 - g0 <= 2) {
+        for (std::uint32_t g = g0; g < g1; ++g) group(g);
+        return n;
+    }
+    // Longer runs: the groups' union footprints first, 16 at a time.
+    for (std::uint32_t h = g0; h < g1; h += 16) {
+        const __mmask16 live = g1 - h >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (g1 - h)) - 1u);
+        const __m512i u = _mm512_maskz_loadu_epi32(live, groups + h);
+        for (std::uint32_t m = _mm512_mask_cmpeq_epi32_mask(live, _mm512_max_epu8(u, r), r); m; m &= m - 1)
+            group(h + std::uint32_t(__builtin_ctz(m)));
     }
     return n;
 }

@@ -135,9 +135,10 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
     };
     struct Stage {
         TileRayBatch batch;
+        const std::uint32_t* groups[16];
         const std::uint32_t* footprints[16];
         const std::uint32_t* ids[16];
-        std::uint32_t count[16];
+        std::uint32_t first[16], count[16];
         bool distinct[16];
         std::uint32_t pairs = 0;
     };
@@ -160,19 +161,47 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
                 if (j0 > j1) std::swap(j0, j1);
             }
             const std::uint32_t e0 = bsp.begin(j0), count = bsp.end(j1) - e0;
-            s.footprints[lane] = bsp.footprints() + e0;
-            s.ids[lane] = bsp.ids() + e0;
+            s.groups[lane] = bsp.groups();
+            s.footprints[lane] = bsp.footprints();
+            s.ids[lane] = bsp.ids();
+            s.first[lane] = e0;
             s.count[lane] = count;
             s.distinct[lane] = j0 == j1;
-            const char* a = reinterpret_cast<const char*>(s.footprints[lane]);
-            const char* c = reinterpret_cast<const char*>(s.ids[lane]);
-            for (std::uint32_t k = 0; k < 4 * count + 63; k += 64) {
-                _mm_prefetch(a + k, _MM_HINT_T0);
-                _mm_prefetch(c + k, _MM_HINT_T0);
+            // A short run: its footprints and ids; a long one: its groups' union footprints.
+            const std::uint32_t g0 = e0 / 16, g1 = (e0 + count + 15) / 16;
+            if (g1 - g0 <= 2) {
+                const char* a = reinterpret_cast<const char*>(s.footprints[lane] + e0);
+                const char* c = reinterpret_cast<const char*>(s.ids[lane] + e0);
+                for (std::uint32_t k = 0; k < 4 * count + 63; k += 64) {
+                    _mm_prefetch(a + k, _MM_HINT_T0);
+                    _mm_prefetch(c + k, _MM_HINT_T0);
+                }
+            } else {
+                const char* a = reinterpret_cast<const char*>(s.groups[lane] + g0);
+                for (std::uint32_t k = 0; k < 4 * (g1 - g0) + 63; k += 64) _mm_prefetch(a + k, _MM_HINT_T0);
             }
         }
     };
-    // Stage 4: the candidates, and their triangles requested.
+    // Stage 4: for long runs, the entries of the groups whose union meets the ray requested.
+    std::vector<std::uint32_t>& passing = passing_;
+    auto request_groups = [&](std::size_t b) {
+        const auto [first, end] = range(b);
+        const Stage& s = ring[b % 8];
+        for (std::size_t i = first; i < end; ++i) {
+            const std::size_t lane = i - first;
+            const std::uint32_t e0 = s.first[lane], count = s.count[lane];
+            const std::uint32_t g0 = e0 / 16, g1 = (e0 + count + 15) / 16;
+            if (count == 0 || g1 - g0 <= 2) continue;
+            if (passing.size() < g1 - g0 + 16) passing.resize(2 * (g1 - g0 + 16));
+            const std::uint32_t n = kernels.scan_footprints(s.groups[lane] + g0, g1 - g0, rays[i].footprint, passing.data());
+            for (std::uint32_t k = 0; k < n; ++k) {
+                const std::uint32_t g = g0 + passing[k];
+                _mm_prefetch(reinterpret_cast<const char*>(s.footprints[lane] + 16 * g), _MM_HINT_T0);
+                _mm_prefetch(reinterpret_cast<const char*>(s.ids[lane] + 16 * g), _MM_HINT_T0);
+            }
+        }
+    };
+    // Stage 5: the candidates, and their triangles requested.
     auto candidates = [&](std::size_t b) {
         const auto [first, end] = range(b);
         Stage& s = ring[b % 8];
@@ -189,8 +218,9 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
                 ids.resize(2 * (found + count + 16));
                 lanes.resize(ids.size());
             }
-            found += kernels.batch_candidates(s.footprints[lane], s.ids[lane], count, rays[first + lane].footprint,
-                                              s.distinct[lane], lane, ids.data() + found, lanes.data() + found);
+            found += kernels.batch_candidates(s.groups[lane], s.footprints[lane], s.ids[lane], s.first[lane], count,
+                                              rays[first + lane].footprint, s.distinct[lane], lane, ids.data() + found,
+                                              lanes.data() + found);
         }
         s.pairs = found;
         for (std::uint32_t p = 0; p < found; ++p) {
@@ -199,7 +229,7 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
             _mm_prefetch(a + sizeof(Triangle) - 1, _MM_HINT_T0);
         }
     };
-    // Stage 5: the test.
+    // Stage 6: the test.
     auto test = [&](std::size_t b) {
         const Stage& s = ring[b % 8];
         const std::uint32_t bits =
@@ -209,13 +239,15 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
             occluded[slot / 16] |= 1u << (slot % 16);
         }
     };
-    // Batch b is tested while b + 1 is scanned, b + 2 has its leaves' entries requested, b + 4 its
-    // blocks' heads, b + 6 its tile entries (distances measured on the bunny's AO rays).
-    constexpr std::size_t H = 2, L = 4, C = 5, T = C + 1;
+    // Batch b is tested while b + 1 is scanned, b + 2 has its groups' entries requested, b + 3 its
+    // leaves' entries (or groups), b + 5 its blocks' heads, b + 7 its tile entries (distances
+    // measured on the bunny's and the room's AO rays).
+    constexpr std::size_t H = 2, L = 4, G = 5, C = 6, T = C + 1;
     for (std::size_t b = 0; b < batches + T; ++b) {
         if (b < batches) request_entries(b);
         if (b >= H && b - H < batches) request_heads(b - H);
         if (b >= L && b - L < batches) request_entries_of_leaves(b - L);
+        if (b >= G && b - G < batches) request_groups(b - G);
         if (b >= C && b - C < batches) candidates(b - C);
         if (b >= T) test(b - T);
     }

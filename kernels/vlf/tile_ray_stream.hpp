@@ -6,9 +6,12 @@
 // pool kept from one call to the next, so that a timed pass does not pay for fresh pages); trace()
 // then orders each bin by tile (counting sorts: column, then row) and traces it as a pipeline:
 //
-//   batch b + 3: the rays' tile entries requested from memory;
-//   batch b + 2: the entries read, the first words of the tiles' blocks requested;
-//   batch b + 1: the candidates (leaves, footprint scan) made, their triangles requested;
+//   batch b + 7: the rays' tile entries requested from memory;
+//   batch b + 5: the entries read, the heads of the tiles' blocks (splits, leaf ends) requested;
+//   batch b + 3: each ray's leaves found, their entries' footprints and ids requested (for a long
+//                run, the groups' union footprints, tile_bsp.hpp);
+//   batch b + 2: for a long run, the entries of the groups that meet the ray requested;
+//   batch b + 1: the candidates (footprint scan) made, their triangles requested;
 //   batch b:     the candidates tested.
 //
 // No lookup is made twice: a TileRay holds the leaf depths, the footprint and the watertight
@@ -59,6 +62,7 @@ private:
     std::size_t sorted_size_ = 0;
     std::vector<std::uint32_t> next_;   // counting sort
     std::vector<std::uint32_t> ids_[2], lanes_[2];  // candidate pairs of two batches
+    std::vector<std::uint32_t> passing_;            // groups of a long run that meet a ray
 };
 
 }  // namespace beamtrace::vlf

@@ -47,8 +47,8 @@ EntriesAnswer occlude_entries(const WatertightRay&, const Triangle*, const std::
                               std::uint32_t, std::uint32_t, bool, std::uint32_t*);
 bool closest_entries(const WatertightRay&, const Triangle*, const std::uint32_t*, const std::uint32_t*,
                      const std::uint32_t*, std::uint32_t, std::uint32_t, TestedIds&, Hit&);
-std::uint32_t batch_candidates(const std::uint32_t*, const std::uint32_t*, std::uint32_t, std::uint32_t, bool,
-                               std::uint32_t, std::uint32_t*, std::uint32_t*);
+std::uint32_t batch_candidates(const std::uint32_t*, const std::uint32_t*, const std::uint32_t*, std::uint32_t,
+                               std::uint32_t, std::uint32_t, bool, std::uint32_t, std::uint32_t*, std::uint32_t*);
 std::uint32_t batch_test(const TileRayBatch&, const Triangle*, const std::uint32_t*, const std::uint32_t*, std::uint32_t,
                          std::uint32_t);
 }  // namespace simd_avx512

@@ -140,6 +140,10 @@ TEST(VlfConservative, EveryTriangleMeetingATileIsInItsLeavesWithItsFootprint) {
                             EXPECT_LE((f >> 8) & 0xFFu, need[1]) << "triangle " << id;
                             EXPECT_GE(255u - ((f >> 16) & 0xFFu), need[2]) << "triangle " << id;
                             EXPECT_GE(255u - (f >> 24), need[3]) << "triangle " << id;
+                            // Its group's union footprint holds it (every byte at most its byte).
+                            const std::uint32_t g = bsp.groups()[k / TileBspView::kGroup];
+                            for (int shift = 0; shift < 32; shift += 8)
+                                EXPECT_LE((g >> shift) & 0xFFu, (f >> shift) & 0xFFu) << "triangle " << id;
                         }
                         ASSERT_TRUE(found) << "triangle " << id << " missing from leaf " << j << " of tile " << c
                                            << "," << r << " (trial " << trial << ")";

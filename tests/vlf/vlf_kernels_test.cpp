@@ -304,7 +304,9 @@ TEST(VlfKernels, EntryClosestHitEqualsScalar) {
 }
 
 // The candidates of batched one-tile occlusion (tile_ray_batch.hpp) against the scalar reference:
-// the same pairs in the same order, for runs of every length, distinct ids or many repeats.
+// the same pairs in the same order, for runs of every length and offset in a tile (long ones go
+// through the groups' union footprints), distinct ids or many repeats, footprints clustered (so
+// that whole groups miss the ray) or spread.
 TEST(VlfKernels, BatchCandidatesEqualScalar) {
     std::mt19937 rng(101);
     const BatchCandidatesFn scalar = vlf_kernels(Isa::scalar).batch_candidates;
@@ -313,22 +315,36 @@ TEST(VlfKernels, BatchCandidatesEqualScalar) {
         SCOPED_TRACE(isa_name(isa));
         const BatchCandidatesFn simd = vlf_kernels(isa).batch_candidates;
         for (int trial = 0; trial < 3000; ++trial) {
-            const std::uint32_t count = std::uint32_t(rng() % 200);
+            const std::uint32_t entries = 1 + std::uint32_t(rng() % 700);
             const bool distinct = trial % 2 == 0;
-            std::vector<std::uint32_t> ids(count), footprints(count);
-            for (std::uint32_t k = 0; k < count; ++k) {
+            std::vector<std::uint32_t> ids(entries), footprints(entries);
+            for (std::uint32_t k = 0; k < entries; ++k) {
                 ids[k] = distinct ? std::uint32_t(trial * 1000 + k) : std::uint32_t(rng() % 12);
-                const std::uint32_t x0 = rng() % 256, y0 = rng() % 256;
-                const std::uint32_t x1 = x0 + rng() % (256 - x0), y1 = y0 + rng() % (256 - y0);
+                // Clustered: entries of one group near one another (as the builder orders them).
+                const std::uint32_t cx = (trial % 3 == 0) ? rng() % 256 : (k / 16 * 37) % 240;
+                const std::uint32_t x0 = std::min<std::uint32_t>(255, cx + rng() % 16), y0 = (trial % 3 == 0) ? rng() % 256 : x0;
+                const std::uint32_t x1 = x0 + rng() % (std::min<std::uint32_t>(256 - x0, 24)),
+                                    y1 = y0 + rng() % (std::min<std::uint32_t>(256 - y0, 24));
                 footprints[k] = x0 | (y0 << 8) | ((255 - x1) << 16) | ((255 - y1) << 24);
             }
+            std::vector<std::uint32_t> groups((entries + 15) / 16, 0xFFFFFFFFu);
+            for (std::uint32_t k = 0; k < entries; ++k)
+                for (int shift = 0; shift < 32; shift += 8) {
+                    const std::uint32_t mask = 0xFFu << shift;
+                    if ((footprints[k] & mask) < (groups[k / 16] & mask))
+                        groups[k / 16] = (groups[k / 16] & ~mask) | (footprints[k] & mask);
+                }
+            const std::uint32_t first = std::uint32_t(rng() % entries);
+            const std::uint32_t count = std::uint32_t(rng() % (entries - first + 1));
             const FootprintLattice lattice{0.0, 0.0, 1.0};
             const double x = double(rng() % 256), y = double(rng() % 256), size = double(rng() % 3 == 0 ? 255 : rng() % 40);
             const std::uint32_t fp = lattice.ray(x, std::min(255.0, x + size), y, std::min(255.0, y + size));
             const std::uint32_t lane = std::uint32_t(rng() % 16);
             std::vector<std::uint32_t> ia(count + 16), la(count + 16), ib(count + 16), lb(count + 16);
-            const std::uint32_t na = scalar(footprints.data(), ids.data(), count, fp, distinct, lane, ia.data(), la.data());
-            const std::uint32_t nb = simd(footprints.data(), ids.data(), count, fp, distinct, lane, ib.data(), lb.data());
+            const std::uint32_t na = scalar(groups.data(), footprints.data(), ids.data(), first, count, fp, distinct, lane,
+                                            ia.data(), la.data());
+            const std::uint32_t nb = simd(groups.data(), footprints.data(), ids.data(), first, count, fp, distinct, lane,
+                                          ib.data(), lb.data());
             ASSERT_EQ(na, nb) << "trial " << trial;
             for (std::uint32_t k = 0; k < na; ++k) {
                 ASSERT_EQ(ia[k], ib[k]) << "trial " << trial << " pair " << k;
