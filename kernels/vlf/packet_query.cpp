@@ -53,17 +53,27 @@ void start_packet(const VisibilityField::Impl& f, const Packet16& p, PacketStart
     lookup_packet(f, p, s.lookup);
     const vlf::PacketLookup& l = s.lookup;
     const auto n = std::uint32_t(f.grid.n);
+    const ParallelSubfield* last_psf = nullptr;
+    std::uint32_t last_tile = 0xFFFFFFFFu;
     for (std::uint32_t m = l.valid; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
         s.psf[i] = &f.psf(l.psf[i]);
         s.tile[i] = std::uint32_t(l.row[i]) * n + std::uint32_t(l.column[i]);
+        if (s.psf[i] == last_psf && s.tile[i] == last_tile) continue;  // coherent packets: once per tile
         s.psf[i]->prefetch_tile(s.tile[i]);
+        last_psf = s.psf[i];
+        last_tile = s.tile[i];
     }
 }
 
 void prefetch_first_blocks(const PacketStart& s) {
+    const ParallelSubfield* last_psf = nullptr;
+    std::uint32_t last_tile = 0xFFFFFFFFu;
     for (std::uint32_t m = s.lookup.valid; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
+        if (s.psf[i] == last_psf && s.tile[i] == last_tile) continue;  // coherent packets: once per tile
+        last_psf = s.psf[i];
+        last_tile = s.tile[i];
         const TileRef ref = s.psf[i]->tile(s.tile[i]);
         if (ref.leaves) s.psf[i]->prefetch_block(ref, 0, 128);
     }
