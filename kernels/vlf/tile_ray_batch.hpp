@@ -73,6 +73,10 @@ struct alignas(64) TileRayBatch {
 // every leaf it overlaps; repeats in other groups stay: testing a pair twice changes no answer).
 // A kernel may skip groups whose union footprint misses the ray's: they hold no passing entry.
 // The outputs have room for count + 16.
+// Runs of at most this many groups are scanned entry by entry (their footprints and ids are
+// requested ahead); longer runs read the groups' union footprints first.
+inline constexpr std::uint32_t kDirectGroups = 8;
+
 using BatchCandidatesFn = std::uint32_t (*)(const std::uint32_t* groups, const std::uint32_t* footprints,
                                             const std::uint32_t* ids, std::uint32_t first, std::uint32_t count,
                                             std::uint32_t ray_footprint, bool distinct, std::uint32_t lane,

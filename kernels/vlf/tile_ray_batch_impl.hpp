@@ -49,7 +49,7 @@ namespace {
         _mm512_storeu_si512(out_lanes + n, l);
         n += found;
     };
-    if (g1 - g0 <= 2) {
+    if (g1 - g0 <= kDirectGroups) {
         for (std::uint32_t g = g0; g < g1; ++g) group(g);
         return n;
     }

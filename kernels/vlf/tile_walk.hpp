@@ -312,7 +312,7 @@ private:
     Hit best_;
     static constexpr std::uint32_t kListed = 32;
     static constexpr std::uint32_t kScanChunk = 128;  // entries scanned per call of the kernel
-    static constexpr std::uint32_t kGroupScan = 4;    // longer runs (in groups) are scanned group-wise
+    static constexpr std::uint32_t kGroupScan = kDirectGroups;  // longer runs (in groups) are scanned group-wise
     static constexpr std::uint32_t kGroupBox = 32;    // by rays whose box is at most this wide and high
     std::uint32_t listed_ids_[kListed + 16];  // ids tested in the first leaf, before the mailbox (+ 16: TestedIds)
     std::uint32_t listed_ = 0;
