@@ -32,12 +32,26 @@ std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vecto
     footprints_.clear();
     levels_[0].assign(items.begin(), items.end());
     node(0, -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity());
+    // A tile with groups: each leaf's entries along a Morton curve of their footprints' centres.
+    const bool grouped = ids_.size() >= TileBspView::kGroupedTile;
+    for (std::size_t j = 0; grouped && j < ends_.size(); ++j) {
+        const std::size_t a = j == 0 ? 0 : ends_[j - 1], b = ends_[j];
+        order_.clear();
+        for (std::size_t k = a; k < b; ++k) order_.push_back({footprint_order(footprints_[k]), ids_[k], footprints_[k]});
+        std::sort(order_.begin(), order_.end(), [](const Ordered& x, const Ordered& y) {
+            return x.key != y.key ? x.key < y.key : x.id < y.id;
+        });
+        for (std::size_t k = a; k < b; ++k) {
+            ids_[k] = order_[k - a].id;
+            footprints_[k] = order_[k - a].footprint;
+        }
+    }
     const auto leaves = std::uint32_t(ends_.size());
     block.clear();
     block.reserve(splits_.size() + ends_.size() + ids_.size() / TileBspView::kGroup + 1 + 2 * ids_.size());
     for (float s : splits_) block.push_back(std::bit_cast<std::uint32_t>(s));
     block.insert(block.end(), ends_.begin(), ends_.end());
-    for (std::size_t g = 0; g < footprints_.size(); g += TileBspView::kGroup) {
+    for (std::size_t g = 0; grouped && g < footprints_.size(); g += TileBspView::kGroup) {
         std::uint32_t u = 0xFFFFFFFFu;  // bytewise minimum: the union of the boxes
         for (std::size_t k = g; k < footprints_.size() && k < g + TileBspView::kGroup; ++k)
             for (int shift = 0; shift < 32; shift += 8) {
@@ -62,14 +76,9 @@ std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vecto
 void TileBspBuilder::node(int level, float lo, float hi) {
     const std::vector<DepthItem>& items = levels_[std::size_t(level)];
     auto leaf = [&] {
-        order_.clear();
-        for (const DepthItem& it : items) order_.push_back({footprint_order(it.footprint), it.id, it.footprint});
-        std::sort(order_.begin(), order_.end(), [](const Ordered& a, const Ordered& b) {
-            return a.key != b.key ? a.key < b.key : a.id < b.id;
-        });
-        for (const Ordered& o : order_) {
-            ids_.push_back(o.id);
-            footprints_.push_back(o.footprint);
+        for (const DepthItem& it : items) {
+            ids_.push_back(it.id);
+            footprints_.push_back(it.footprint);
         }
         ends_.push_back(std::uint32_t(ids_.size()));
     };

@@ -10,10 +10,11 @@
 //                                  Footprints come first: every query reads them, right after the
 //                                  splits and ends, while it reads only the ids of passing entries.
 //
-// Groups (not in the paper): word g is the union of the footprints of entries 16 g .. 16 g + 15
-// (bytewise minimum of the packed words), so a ray whose footprint misses it skips those 16
-// entries unread. Within a leaf the entries are ordered along a Morton curve of their footprints'
-// centres (ties by id), which keeps a group's union small: in a dense tile (thousands of small
+// Groups (not in the paper), in tiles of at least kGroupedTile entries only: word g is the union of
+// the footprints of entries 16 g .. 16 g + 15 (bytewise minimum of the packed words), so a ray
+// whose footprint misses it skips those 16 entries unread. Within a leaf of such a tile the entries
+// are ordered along a Morton curve of their footprints' centres (ties by id; elsewhere by id), which
+// keeps a group's union small: in a dense tile (thousands of small
 // triangles, the room's desks) a ray meeting a small part of the tile reads few groups' entries.
 //
 // Leaf j covers depths [split_{j-1}, split_j] (the first and last are open-ended), so the first
@@ -46,9 +47,14 @@ struct TileBspView {
     std::uint32_t end(std::uint32_t j) const { return ends()[j]; }
     std::uint32_t entries() const { return end(leaves - 1); }
     static constexpr std::uint32_t kGroup = 16;  // entries per group
-    std::uint32_t groups_count() const { return (entries() + kGroup - 1) / kGroup; }
-    const std::uint32_t* groups() const { return block + (leaves - 1) + leaves; }
-    const std::uint32_t* footprints() const { return groups() + groups_count(); }
+    static constexpr std::uint32_t kGroupedTile = 256;  // tiles of at least this many entries have groups
+    std::uint32_t groups_count() const {
+        const std::uint32_t e = entries();
+        return e >= kGroupedTile ? (e + kGroup - 1) / kGroup : 0;
+    }
+    // nullptr: the tile has no groups.
+    const std::uint32_t* groups() const { return groups_count() ? block + (leaves - 1) + leaves : nullptr; }
+    const std::uint32_t* footprints() const { return block + (leaves - 1) + leaves + groups_count(); }
     const std::uint32_t* ids() const { return footprints() + entries(); }
     // The leaf whose depth range holds z (the lower one when z is a split): the number of splits
     // below z, by a binary search of fixed steps (the splits ascend strictly), whose selects need

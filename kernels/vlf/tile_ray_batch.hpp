@@ -67,9 +67,10 @@ struct alignas(64) TileRayBatch {
 
 // Candidates of ray `lane` among the entries first .. first + count - 1 of a tile (groups,
 // footprints and ids as TileBspView gives them): those whose footprint meets ray_footprint, in
-// order, as pairs (out_lanes[n], out_ids[n]) = (lane, ids[k]); returns n. Entries are taken in
-// their groups of 16 (k / 16 equal); unless `distinct` (entries of one leaf), an entry is dropped
-// when an earlier passing entry of its group holds the same id (a straddling triangle sits in
+// order, as pairs (out_lanes[n], out_ids[n]) = (lane, ids[k]); returns n. Entries are taken 16 at
+// a time: from `first` on (k - first in the same 16) in a tile without groups (groups == nullptr)
+// or a run of at most kDirectGroups groups, in their groups (k / 16 equal) in a longer one; unless `distinct` (entries of one leaf), an entry is
+// dropped when an earlier passing entry of its 16 holds the same id (a straddling triangle sits in
 // every leaf it overlaps; repeats in other groups stay: testing a pair twice changes no answer).
 // A kernel may skip groups whose union footprint misses the ray's: they hold no passing entry.
 // The outputs have room for count + 16.
@@ -82,15 +83,17 @@ using BatchCandidatesFn = std::uint32_t (*)(const std::uint32_t* groups, const s
                                             std::uint32_t ray_footprint, bool distinct, std::uint32_t lane,
                                             std::uint32_t* out_ids, std::uint32_t* out_lanes);
 
-inline std::uint32_t batch_candidates_scalar(const std::uint32_t* /*groups*/, const std::uint32_t* footprints,
+inline std::uint32_t batch_candidates_scalar(const std::uint32_t* groups, const std::uint32_t* footprints,
                                              const std::uint32_t* ids, std::uint32_t first, std::uint32_t count,
                                              std::uint32_t ray_footprint, bool distinct, std::uint32_t lane,
                                              std::uint32_t* out_ids, std::uint32_t* out_lanes) {
     std::uint32_t n = 0;
     std::uint32_t group = 0xFFFFFFFFu, group_start = 0;
+    const std::uint32_t g0 = first / 16, g1 = (first + count + 15) / 16;
+    const std::uint32_t origin = groups == nullptr || g1 - g0 <= kDirectGroups ? first : 0;  // where the runs of 16 start
     for (std::uint32_t k = first; k < first + count; ++k) {
-        if (k / 16 != group) {
-            group = k / 16;
+        if ((k - origin) / 16 != group) {
+            group = (k - origin) / 16;
             group_start = n;
         }
         if (!footprints_meet(footprints[k], ray_footprint)) continue;

@@ -49,8 +49,25 @@ namespace {
         _mm512_storeu_si512(out_lanes + n, l);
         n += found;
     };
-    if (g1 - g0 <= kDirectGroups) {
-        for (std::uint32_t g = g0; g < g1; ++g) group(g);
+    if (groups == nullptr || g1 - g0 <= kDirectGroups) {  // short runs: 16 entries at a time from `first`
+        for (std::uint32_t k = first; k < end; k += 16) {
+            const __mmask16 live = end - k >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (end - k)) - 1u);
+            const __m512i f = _mm512_maskz_loadu_epi32(live, footprints + k);
+            const __mmask16 pass = _mm512_mask_cmpeq_epi32_mask(live, _mm512_max_epu8(f, r), r);
+            if (pass == 0) continue;
+            __m512i v = _mm512_maskz_compress_epi32(pass, _mm512_maskz_loadu_epi32(pass, ids + k));
+            std::uint32_t found = std::uint32_t(__builtin_popcount(pass));
+            if (!distinct && found > 1) {
+                const __mmask16 valid = __mmask16((1u << found) - 1u);
+                const __m512i conflicts = _mm512_maskz_conflict_epi32(valid, v);
+                const __mmask16 once = _mm512_mask_testn_epi32_mask(valid, conflicts, conflicts);
+                v = _mm512_maskz_compress_epi32(once, v);
+                found = std::uint32_t(__builtin_popcount(once));
+            }
+            _mm512_storeu_si512(out_ids + n, v);
+            _mm512_storeu_si512(out_lanes + n, l);
+            n += found;
+        }
         return n;
     }
     // Longer runs: the groups' union footprints first, 16 at a time.

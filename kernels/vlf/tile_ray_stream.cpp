@@ -169,7 +169,7 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
             s.distinct[lane] = j0 == j1;
             // A short run: its footprints and ids; a long one: its groups' union footprints.
             const std::uint32_t g0 = e0 / 16, g1 = (e0 + count + 15) / 16;
-            if (g1 - g0 <= kDirectGroups) {
+            if (s.groups[lane] == nullptr || g1 - g0 <= kDirectGroups) {
                 const char* a = reinterpret_cast<const char*>(s.footprints[lane] + e0);
                 const char* c = reinterpret_cast<const char*>(s.ids[lane] + e0);
                 for (std::uint32_t k = 0; k < 4 * count + 63; k += 64) {
@@ -191,7 +191,7 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
             const std::size_t lane = i - first;
             const std::uint32_t e0 = s.first[lane], count = s.count[lane];
             const std::uint32_t g0 = e0 / 16, g1 = (e0 + count + 15) / 16;
-            if (count == 0 || g1 - g0 <= kDirectGroups) continue;
+            if (count == 0 || s.groups[lane] == nullptr || g1 - g0 <= kDirectGroups) continue;
             if (passing.size() < g1 - g0 + 16) passing.resize(2 * (g1 - g0 + 16));
             const std::uint32_t n = kernels.scan_footprints(s.groups[lane] + g0, g1 - g0, rays[i].footprint, passing.data());
             for (std::uint32_t k = 0; k < n; ++k) {

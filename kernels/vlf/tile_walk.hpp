@@ -219,7 +219,7 @@ private:
                             g1 = (end + TileBspView::kGroup - 1) / TileBspView::kGroup;
         // The ray's box on the tile's lattice (tile_footprint.hpp): groups pay when it is small.
         const std::uint32_t width = (ray & 0xFFu) + ((ray >> 16) & 0xFFu), height = ((ray >> 8) & 0xFFu) + (ray >> 24);
-        if (g1 - g0 <= kGroupScan || width > 255u + kGroupBox || height > 255u + kGroupBox) {
+        if (bsp.groups() == nullptr || g1 - g0 <= kGroupScan || width > 255u + kGroupBox || height > 255u + kGroupBox) {
             if (scan(first, end)) return true;
         } else {
             // A long run (dense tiles): only the groups whose union footprint meets the ray's
