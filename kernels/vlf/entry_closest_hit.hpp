@@ -22,7 +22,8 @@
 
 namespace beamtrace::vlf {
 
-// The walk's list of tested ids: count ids, room for `room`.
+// The walk's list of tested ids: count ids, room for `room` (and 16 more words that SIMD kernels may
+// write past the end of the list).
 struct TestedIds {
     std::uint32_t* ids;
     std::uint32_t count;

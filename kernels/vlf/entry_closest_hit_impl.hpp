@@ -10,6 +10,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "common/triangle_kernels_impl.hpp"
+#include "vlf/corner_load_impl.hpp"
 #include "vlf/entry_closest_hit.hpp"
 
 namespace beamtrace::vlf {
@@ -45,19 +46,11 @@ namespace {
     const auto added = std::uint32_t(__builtin_popcount(fresh));
     if (tested.count + added > tested.room) return false;
     if (added == 0) return true;
-    _mm512_mask_compressstoreu_epi32(tested.ids + tested.count, fresh, v);
+    // Compressed in a register and stored whole (the list has 16 words to spare): a compressing
+    // store to memory is microcoded, and slow, on some processors (AMD Zen 4).
+    _mm512_storeu_si512(tested.ids + tested.count, _mm512_maskz_compress_epi32(fresh, v));
     tested.count += added;
-    const __m512i at = _mm512_mullo_epi32(v, _mm512_set1_epi32(9));
-    const float* base = &triangles[0].v0.x;
-    const float* o = &ray.org.x;
-    auto corner = [&](int c, int axis) {
-        const __m512i index = _mm512_add_epi32(at, _mm512_set1_epi32(3 * c + axis));
-        return B(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), fresh, index, base, 4)) - B(o[axis]);
-    };
-    simd::Corners<Arch> k;
-    k.ax = corner(0, ray.kx); k.ay = corner(0, ray.ky); k.az = corner(0, ray.kz);
-    k.bx = corner(1, ray.kx); k.by = corner(1, ray.ky); k.bz = corner(1, ray.kz);
-    k.cx = corner(2, ray.kx); k.cy = corner(2, ray.ky); k.cz = corner(2, ray.kz);
+    const simd::Corners<Arch> k = ray_corners(ray, triangles, candidates, fresh);
     LaneHits lanes;
     const std::uint32_t bits = simd::watertight_core<Arch>(k, B(ray.sx), B(ray.sy), B(ray.sz), B(ray.tnear),
                                                            B(ray.tfar), std::uint32_t(fresh), lanes, 0);

@@ -11,6 +11,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "common/triangle_kernels_impl.hpp"
+#include "vlf/corner_load_impl.hpp"
 #include "vlf/entry_occlusion.hpp"
 
 namespace beamtrace::vlf {
@@ -46,17 +47,7 @@ namespace {
         const __m512i conflicts = _mm512_maskz_conflict_epi32(valid, v);
         first = _mm512_mask_testn_epi32_mask(valid, conflicts, conflicts);
     }
-    const __m512i at = _mm512_mullo_epi32(v, _mm512_set1_epi32(9));
-    const float* base = &triangles[0].v0.x;
-    const float* o = &ray.org.x;
-    auto corner = [&](int c, int axis) {
-        const __m512i index = _mm512_add_epi32(at, _mm512_set1_epi32(3 * c + axis));
-        return B(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), first, index, base, 4)) - B(o[axis]);
-    };
-    simd::Corners<Arch> k;
-    k.ax = corner(0, ray.kx); k.ay = corner(0, ray.ky); k.az = corner(0, ray.kz);
-    k.bx = corner(1, ray.kx); k.by = corner(1, ray.ky); k.bz = corner(1, ray.kz);
-    k.cx = corner(2, ray.kx); k.cy = corner(2, ray.ky); k.cz = corner(2, ray.kz);
+    const simd::Corners<Arch> k = ray_corners(ray, triangles, candidates, first);
     LaneHits lanes;
     const std::uint32_t bits = simd::watertight_core<Arch>(k, B(ray.sx), B(ray.sy), B(ray.sz), B(ray.tnear),
                                                            B(ray.tfar), std::uint32_t(first), lanes, 0);

@@ -30,6 +30,7 @@ struct LookupTables {
     // Grid and box.
     double centre[3] = {0, 0, 0};
     double radius = 0.0, inv_h = 0.0;
+    double h = 0.0, pad = 0.0, lattice_scale = 0.0;  // tile side, padding, footprint lattice (TileGrid)
     int tiles = 1;
     WorldBox box{};
 };
@@ -42,7 +43,12 @@ struct alignas(64) PacketLookup {
     // The watertight triangle test's set-up of each ray (make_watertight_ray).
     std::int32_t kx[16], ky[16], kz[16];
     float sx[16], sy[16], sz[16];
-    std::uint32_t valid = 0;  // bit i: ray i is active, well formed and its segment meets the box
+    // What a segment inside its first tile needs (tile_ray_stream.hpp), as tile_walk.hpp computes
+    // it: the depths of its ends as floats, its footprint over [t0, t1] in that tile.
+    float z0[16], z1[16];
+    std::uint32_t footprint[16];
+    std::uint32_t valid = 0;     // bit i: ray i is active, well formed and its segment meets the box
+    std::uint32_t one_tile = 0;  // bit i (of valid lanes): the segment lies in its first tile
 
     CanonicalRay ray(int i) const {
         return CanonicalRay{ox[i], oy[i], oz[i], dx[i],     dy[i],     dz[i],     t0[i],
@@ -59,7 +65,8 @@ struct alignas(64) PacketLookup {
     }
 };
 
-using LookupPacketFn = void (*)(const LookupTables& tables, const Packet16& packet, PacketLookup& out);
+// first_tiles: also z0, z1, footprint and one_tile (else those are left unset and one_tile is 0).
+using LookupPacketFn = void (*)(const LookupTables& tables, const Packet16& packet, PacketLookup& out, bool first_tiles);
 
 // The tables of a field's direction set, frames, grid and box (the vector keeps the frames).
 struct LookupStorage {

@@ -111,9 +111,52 @@ void nearest_directions(const LookupTables& t, const Packet16& p, int base, std:
 }
 
 // Stage 2, double: rays [base, base + W) cut to the box, rotated into their PSF's frame, first tile.
+// Stage 3, double: for rays [base, base + W), what tile_walk.hpp computes for a segment in its first
+// tile: whether it is (first_tile_exit), the depths of its ends, its footprint (FootprintLattice).
+template <class Arch>
+void first_tiles(const LookupTables& t, const xsimd::batch<double, Arch>* co, const xsimd::batch<double, Arch>* cd,
+                 const xsimd::batch<double, Arch>& t0, const xsimd::batch<double, Arch>& t1,
+                 const xsimd::batch<double, Arch>* cell, int base, PacketLookup& out, double* one_tile,
+                 double* footprint) {
+    using BD = xsimd::batch<double, Arch>;
+    const BD zero(0.0), one(1.0), inf(HUGE_VAL), radius(t.radius), h(t.h);
+    // TileGrid::edge(i) = -radius + i * h.
+    auto edge = [&](const BD& i) { return -radius + i * h; };
+    BD exit[2];
+    for (int a = 0; a < 2; ++a) {
+        const BD inv = one / cd[a];
+        exit[a] = xsimd::select(cd[a] > zero, (edge(cell[a] + one) - co[a]) * inv,
+                                xsimd::select(cd[a] < zero, (edge(cell[a]) - co[a]) * inv, inf));
+    }
+    BD e = xsimd::select(exit[0] < exit[1], exit[0], exit[1]);
+    e = xsimd::select(e < t1, e, t1);
+    e = xsimd::select(e > t0, e, t0);
+    xsimd::select(e >= t1, one, zero).store_aligned(one_tile + base);
+    alignas(64) double z[8];
+    (co[2] + t0 * cd[2]).store_aligned(z);
+    for (int k = 0; k < int(BD::size); ++k) out.z0[base + k] = float(z[k]);
+    (co[2] + t1 * cd[2]).store_aligned(z);
+    for (int k = 0; k < int(BD::size); ++k) out.z1[base + k] = float(z[k]);
+    // FootprintLattice::ray over [t0, t1]: floor of the lattice coordinate, clamped to [0, 255].
+    const BD scale(t.lattice_scale), pad(t.pad), top(255.0);
+    auto cell_of = [&](const BD& q) { return xsimd::select(q < one, zero, xsimd::select(q >= top, top, xsimd::trunc(q))); };
+    BD lo[2], hi[2];
+    for (int a = 0; a < 2; ++a) {
+        const BD origin = edge(cell[a]) - pad;
+        const BD p = co[a] + t0 * cd[a], q = co[a] + t1 * cd[a];
+        const auto less = p < q;
+        lo[a] = cell_of((xsimd::select(less, p, q) - origin) * scale);
+        hi[a] = cell_of((xsimd::select(less, q, p) - origin) * scale);
+    }
+    // c | d << 8 | (255 - a) << 16 | (255 - b) << 24, exact in double.
+    const BD word = ((hi[0] + hi[1] * BD(256.0)) + (top - lo[0]) * BD(65536.0)) + (top - lo[1]) * BD(16777216.0);
+    word.store_aligned(footprint + base);
+}
+
 template <class Arch>
 void canonical_rays(const LookupTables& t, const double (*in)[16], const std::int64_t* psf, bool one_psf, int base,
-                    PacketLookup& out, double* ok, double* cell_x, double* cell_y) {
+                    PacketLookup& out, double* ok, double* cell_x, double* cell_y, bool first, double* one_tile,
+                    double* footprint) {
     using BD = xsimd::batch<double, Arch>;
     using BL = xsimd::batch<std::int64_t, Arch>;
     const BD zero(0.0), inf(HUGE_VAL);
@@ -159,16 +202,18 @@ void canonical_rays(const LookupTables& t, const double (*in)[16], const std::in
     t1.store_aligned(out.t1 + base);
     // Tile of the start point, as TileGrid::cell: floor((c + R) / h) clamped to [0, n - 1].
     const BD radius(t.radius), inv_h(t.inv_h), last(double(t.tiles - 1));
+    BD cell[2];
     for (int axis = 0; axis < 2; ++axis) {
         const BD f = xsimd::floor(((co[axis] + t0 * cd[axis]) + radius) * inv_h);
-        const BD clamped = xsimd::select(f < zero, zero, xsimd::select(f >= BD(double(t.tiles)), last, f));
-        clamped.store_aligned((axis == 0 ? cell_x : cell_y) + base);
+        cell[axis] = xsimd::select(f < zero, zero, xsimd::select(f >= BD(double(t.tiles)), last, f));
+        cell[axis].store_aligned((axis == 0 ? cell_x : cell_y) + base);
     }
     xsimd::select(good, BD(1.0), zero).store_aligned(ok + base);
+    if (first) first_tiles<Arch>(t, co, cd, t0, t1, cell, base, out, one_tile, footprint);
 }
 
 template <class Arch>
-void lookup_packet_simd(const LookupTables& t, const Packet16& p, PacketLookup& out) {
+void lookup_packet_simd(const LookupTables& t, const Packet16& p, PacketLookup& out, bool first_tiles) {
     constexpr int WF = int(xsimd::batch<float, Arch>::size), WD = int(xsimd::batch<double, Arch>::size);
     alignas(64) std::int32_t psf[16];
     alignas(64) float dir_ok[16];
@@ -183,16 +228,21 @@ void lookup_packet_simd(const LookupTables& t, const Packet16& p, PacketLookup& 
         psf64[i] = psf[i];
         one_psf &= psf[i] == psf[0];
     }
-    alignas(64) double ray_ok[16], cell_x[16], cell_y[16];
-    for (int base = 0; base < 16; base += WD) canonical_rays<Arch>(t, in, psf64, one_psf, base, out, ray_ok, cell_x, cell_y);
-    std::uint32_t valid = 0;
+    alignas(64) double ray_ok[16], cell_x[16], cell_y[16], one_tile[16], footprint[16];
+    for (int base = 0; base < 16; base += WD)
+        canonical_rays<Arch>(t, in, psf64, one_psf, base, out, ray_ok, cell_x, cell_y, first_tiles, one_tile, footprint);
+    std::uint32_t valid = 0, in_tile = 0;
     for (int i = 0; i < 16; ++i) {
         out.psf[i] = std::uint32_t(psf[i]);
         out.column[i] = std::int32_t(cell_x[i]);
         out.row[i] = std::int32_t(cell_y[i]);
         valid |= std::uint32_t(dir_ok[i] != 0.0f && ray_ok[i] != 0.0) << i;
+        if (!first_tiles) continue;
+        out.footprint[i] = std::uint32_t(std::int64_t(footprint[i]));
+        in_tile |= std::uint32_t(one_tile[i] != 0.0) << i;
     }
     out.valid = valid & p.active;
+    out.one_tile = in_tile & out.valid;
 }
 
 }  // namespace

@@ -10,8 +10,9 @@ namespace beamtrace {
 namespace {
 
 // The lookups lane by lane, exactly as a single-ray query makes them.
-void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::PacketLookup& out) {
+void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::PacketLookup& out, bool first_tiles) {
     out.valid = 0;
+    out.one_tile = 0;
     for (std::uint32_t m = p.active; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
         const float s = std::fabs(p.dir_x[i]) + std::fabs(p.dir_y[i]) + std::fabs(p.dir_z[i]);
@@ -29,6 +30,11 @@ void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::Packet
         out.kx[i] = w.kx; out.ky[i] = w.ky; out.kz[i] = w.kz;
         out.sx[i] = w.sx; out.sy[i] = w.sy; out.sz[i] = w.sz;
         out.valid |= 1u << i;
+        if (!first_tiles) continue;
+        out.z0[i] = float(cr.oz + cr.t0 * cr.dz);
+        out.z1[i] = float(cr.oz + cr.t1 * cr.dz);
+        out.footprint[i] = vlf::ray_footprint(vlf::FootprintLattice::of_tile(f.grid, cr.column, cr.row), cr, cr.t0, cr.t1);
+        out.one_tile |= std::uint32_t(vlf::segment_in_first_tile<false>(f.grid, cr)) << i;
     }
 }
 
@@ -36,27 +42,38 @@ void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::Packet
 
 namespace vlf {
 
-void lookup_packet(const VisibilityField::Impl& f, const Packet16& p, PacketLookup& out) {
-    if (f.simd->lookup_packet) f.simd->lookup_packet(f.lookup.tables, p, out);
-    else lookup_lanes(f, p, out);
+void lookup_packet(const VisibilityField::Impl& f, const Packet16& p, PacketLookup& out, bool first_tiles) {
+    if (f.simd->lookup_packet) f.simd->lookup_packet(f.lookup.tables, p, out, first_tiles);
+    else lookup_lanes(f, p, out, first_tiles);
     out.valid &= segment_lanes(p);  // rays that describe no segment report nothing
+    out.one_tile &= out.valid;
 }
 
 void start_packet(const VisibilityField::Impl& f, const Packet16& p, PacketStart& s) {
     lookup_packet(f, p, s.lookup);
     const vlf::PacketLookup& l = s.lookup;
     const auto n = std::uint32_t(f.grid.n);
+    const ParallelSubfield* last_psf = nullptr;
+    std::uint32_t last_tile = 0xFFFFFFFFu;
     for (std::uint32_t m = l.valid; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
         s.psf[i] = &f.psf(l.psf[i]);
         s.tile[i] = std::uint32_t(l.row[i]) * n + std::uint32_t(l.column[i]);
+        if (s.psf[i] == last_psf && s.tile[i] == last_tile) continue;  // coherent packets: once per tile
         s.psf[i]->prefetch_tile(s.tile[i]);
+        last_psf = s.psf[i];
+        last_tile = s.tile[i];
     }
 }
 
 void prefetch_first_blocks(const PacketStart& s) {
+    const ParallelSubfield* last_psf = nullptr;
+    std::uint32_t last_tile = 0xFFFFFFFFu;
     for (std::uint32_t m = s.lookup.valid; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
+        if (s.psf[i] == last_psf && s.tile[i] == last_tile) continue;  // coherent packets: once per tile
+        last_psf = s.psf[i];
+        last_tile = s.tile[i];
         const TileRef ref = s.psf[i]->tile(s.tile[i]);
         if (ref.leaves) s.psf[i]->prefetch_block(ref, 0, 128);
     }

@@ -17,7 +17,8 @@ struct PacketStart {
     std::uint32_t tile[16];           // of the valid lanes: the tile where the segment starts
 };
 
-void lookup_packet(const VisibilityField::Impl& f, const Packet16& p, PacketLookup& out);
+// first_tiles: also what a segment inside its first tile needs (PacketLookup::one_tile ...).
+void lookup_packet(const VisibilityField::Impl& f, const Packet16& p, PacketLookup& out, bool first_tiles = false);
 void start_packet(const VisibilityField::Impl& f, const Packet16& p, PacketStart& s);
 void prefetch_first_blocks(const PacketStart& s);
 

@@ -72,7 +72,7 @@ ParallelSubfield::ParallelSubfield(const CanonicalFrame& frame, const SubfieldIn
         tiles_[t] = TileRef{std::uint32_t(pool_.size()), leaves};
         room_[t] = std::uint32_t(block_.size());
         pool_.insert(pool_.end(), block_.begin(), block_.end());
-        entries_ += (block_.size() - (2 * std::size_t(leaves) - 1)) / 2;
+        entries_ += TileBspView{block_.data(), leaves}.entries();
         leaves_ += leaves;
     }
     pool_.shrink_to_fit();
@@ -136,7 +136,7 @@ void ParallelSubfield::rebuild_tile(std::uint32_t tile, std::span<const std::uin
         pool_.insert(pool_.end(), block_.begin(), block_.end());
     }
     ref.leaves = leaves;
-    entries_ += (block_.size() - (2 * std::size_t(leaves) - 1)) / 2;
+    entries_ += TileBspView{block_.data(), leaves}.entries();
     leaves_ += leaves;
 }
 

@@ -11,6 +11,7 @@
 
 #include "vlf/field_query.hpp"
 #include "vlf/packet_start.hpp"
+#include "vlf/tile_ray_stream.hpp"
 
 namespace beamtrace {
 namespace {
@@ -88,18 +89,22 @@ void in_order(const VisibilityField::Impl& f, std::span<const Packet16> packets,
     }, walk);
 }
 
-// Calls walk(group) for every ray of the packets, grouped by PSF and ordered by first tile.
+// Calls walk(group) for every ray of the packets, grouped by PSF and ordered by first tile, except
+// the rays that `tiles` (occlusion streams) takes: those whose segment stays in its first tile.
 template <class Walk>
-void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, Walk&& walk) {
+void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, Walk&& walk,
+            vlf::TileRayBins* tiles = nullptr, VlfMode mode = VlfMode::exact) {
     const std::size_t psfs = f.psfs.size();
     const auto n = std::uint32_t(f.grid.n);
     std::vector<std::uint32_t> bin_of(packets.size() * 16, kNoBin);
     std::vector<std::size_t> first(psfs + 1, 0);
     vlf::PacketLookup lookup;
+    if (tiles) tiles->begin(psfs, packets.size() * 16);
     for (std::size_t p = 0; p < packets.size(); ++p) {
-        vlf::lookup_packet(f, packets[p], lookup);
+        vlf::lookup_packet(f, packets[p], lookup, tiles != nullptr);
         for (std::uint32_t m = lookup.valid; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
+            if (tiles && tiles->take(f, packets[p], lookup, i, std::uint32_t(p * 16 + std::size_t(i)), mode)) continue;
             const std::uint32_t tile = std::uint32_t(lookup.row[i]) * n + std::uint32_t(lookup.column[i]);
             bin_of[p * 16 + std::size_t(i)] = (lookup.psf[i] << kTileBits) | tile;
             ++first[lookup.psf[i] + 1];
@@ -159,7 +164,7 @@ void VisibilityField::occluded(std::span<const Packet16> packets, std::span<std:
                                VlfOrder order) const {
     for (std::uint32_t& bits : occluded) bits = 0;
     const Impl& f = *impl_;
-    stream(f, packets, order, [&](const Group& g) {
+    auto walk = [&](const Group& g) {
         for (std::uint32_t m = g.start.lookup.valid; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
             if (vlf::walk_field<true, false>(f, *g.start.psf[i], g.start.lookup.ray(i),
@@ -167,7 +172,12 @@ void VisibilityField::occluded(std::span<const Packet16> packets, std::span<std:
                     .hit())
                 occluded[g.slots[i] / 16] |= 1u << (g.slots[i] % 16);
         }
-    });
+    };
+    if (order == VlfOrder::input) return in_order(f, packets, walk);
+    // Binned: rays whose segment stays in one tile in batches (tile_ray_stream.hpp), the others walk.
+    vlf::TileRayBins& tiles = vlf::TileRayBins::local();
+    binned(f, packets, walk, &tiles, mode);
+    tiles.trace(f, occluded);
 }
 
 }  // namespace beamtrace

@@ -4,8 +4,8 @@
 #include "vlf/vlf_kernels.hpp"
 
 namespace beamtrace::vlf::simd_avx2 {
-void lookup_packet(const LookupTables& t, const Packet16& p, PacketLookup& out) {
-    lookup_packet_simd<xsimd::avx2>(t, p, out);
+void lookup_packet(const LookupTables& t, const Packet16& p, PacketLookup& out, bool first_tiles) {
+    lookup_packet_simd<xsimd::avx2>(t, p, out, first_tiles);
 }
 std::uint32_t scan_footprints(const std::uint32_t* footprints, std::uint32_t count, std::uint32_t ray,
                               std::uint32_t* passing) {

@@ -6,6 +6,25 @@
 
 namespace beamtrace::vlf {
 
+namespace {
+
+// Spreads the 8 bits of v to the even bits of a 16-bit word.
+std::uint32_t spread(std::uint32_t v) {
+    v = (v | (v << 4)) & 0x0F0Fu;
+    v = (v | (v << 2)) & 0x3333u;
+    v = (v | (v << 1)) & 0x5555u;
+    return v;
+}
+
+}  // namespace
+
+// The place of a footprint's centre on a Morton curve over the tile's lattice.
+std::uint32_t TileBspBuilder::footprint_order(std::uint32_t f) {
+    const std::uint32_t x = ((f & 0xFFu) + (255u - ((f >> 16) & 0xFFu))) / 2u;
+    const std::uint32_t y = (((f >> 8) & 0xFFu) + (255u - ((f >> 24) & 0xFFu))) / 2u;
+    return spread(x) | (spread(y) << 1);
+}
+
 std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vector<std::uint32_t>& block) {
     splits_.clear();
     ends_.clear();
@@ -13,13 +32,36 @@ std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vecto
     footprints_.clear();
     levels_[0].assign(items.begin(), items.end());
     node(0, -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity());
+    // A tile with groups: each leaf's entries along a Morton curve of their footprints' centres.
+    const bool grouped = ids_.size() >= TileBspView::kGroupedTile;
+    for (std::size_t j = 0; grouped && j < ends_.size(); ++j) {
+        const std::size_t a = j == 0 ? 0 : ends_[j - 1], b = ends_[j];
+        order_.clear();
+        for (std::size_t k = a; k < b; ++k) order_.push_back({footprint_order(footprints_[k]), ids_[k], footprints_[k]});
+        std::sort(order_.begin(), order_.end(), [](const Ordered& x, const Ordered& y) {
+            return x.key != y.key ? x.key < y.key : x.id < y.id;
+        });
+        for (std::size_t k = a; k < b; ++k) {
+            ids_[k] = order_[k - a].id;
+            footprints_[k] = order_[k - a].footprint;
+        }
+    }
     const auto leaves = std::uint32_t(ends_.size());
     block.clear();
-    block.reserve(splits_.size() + ends_.size() + 2 * ids_.size());
+    block.reserve(splits_.size() + ends_.size() + ids_.size() / TileBspView::kGroup + 1 + 2 * ids_.size());
     for (float s : splits_) block.push_back(std::bit_cast<std::uint32_t>(s));
     block.insert(block.end(), ends_.begin(), ends_.end());
-    block.insert(block.end(), ids_.begin(), ids_.end());
+    for (std::size_t g = 0; grouped && g < footprints_.size(); g += TileBspView::kGroup) {
+        std::uint32_t u = 0xFFFFFFFFu;  // bytewise minimum: the union of the boxes
+        for (std::size_t k = g; k < footprints_.size() && k < g + TileBspView::kGroup; ++k)
+            for (int shift = 0; shift < 32; shift += 8) {
+                const std::uint32_t mask = 0xFFu << shift;
+                if ((footprints_[k] & mask) < (u & mask)) u = (u & ~mask) | (footprints_[k] & mask);
+            }
+        block.push_back(u);
+    }
     block.insert(block.end(), footprints_.begin(), footprints_.end());
+    block.insert(block.end(), ids_.begin(), ids_.end());
     return leaves;
 }
 

@@ -190,23 +190,48 @@ private:
         const std::uint32_t first = bsp.begin(j0), count = bsp.end(j1) - first;
         if constexpr (kCount) counters_->entries += count;
         if (j1 > j0) distinct_ = false;  // a straddling triangle appears once per leaf
-        const std::uint32_t* ids = bsp.ids() + first;
-        const std::uint32_t* footprints = bsp.footprints() + first;
+        const std::uint32_t* ids = bsp.ids();
+        const std::uint32_t* footprints = bsp.footprints();
         const Triangle* batch[8];
         std::uint32_t batch_ids[8];
         int n = 0;
         std::uint32_t passing[kScanChunk + 16];
-        for (std::uint32_t k = 0; k < count; k += kScanChunk) {
-            const std::uint32_t chunk = count - k < kScanChunk ? count - k : kScanChunk;
-            const std::uint32_t found = ctx_.scan(footprints + k, chunk, ray, passing);
-            for (std::uint32_t p = 0; p < found; ++p) {
-                const std::uint32_t id = ids[k + passing[p]];
-                if (already_tested(id)) continue;
-                batch[n] = ctx_.triangles + id;
-                batch_ids[n] = id;
-                if (++n == 8) {
-                    if (test(batch, batch_ids, n)) return true;
-                    n = 0;
+        // Entries [a, b): those whose footprint meets the ray's, untested, go to the triangle test
+        // in batches of 8; true when an occlusion walk is done.
+        auto scan = [&](std::uint32_t a, std::uint32_t b) {
+            for (std::uint32_t k = a; k < b; k += kScanChunk) {
+                const std::uint32_t chunk = b - k < kScanChunk ? b - k : kScanChunk;
+                const std::uint32_t found = ctx_.scan(footprints + k, chunk, ray, passing);
+                for (std::uint32_t p = 0; p < found; ++p) {
+                    const std::uint32_t id = ids[k + passing[p]];
+                    if (already_tested(id)) continue;
+                    batch[n] = ctx_.triangles + id;
+                    batch_ids[n] = id;
+                    if (++n == 8) {
+                        if (test(batch, batch_ids, n)) return true;
+                        n = 0;
+                    }
+                }
+            }
+            return false;
+        };
+        const std::uint32_t end = first + count, g0 = first / TileBspView::kGroup,
+                            g1 = (end + TileBspView::kGroup - 1) / TileBspView::kGroup;
+        // The ray's box on the tile's lattice (tile_footprint.hpp): groups pay when it is small.
+        const std::uint32_t width = (ray & 0xFFu) + ((ray >> 16) & 0xFFu), height = ((ray >> 8) & 0xFFu) + (ray >> 24);
+        if (bsp.groups() == nullptr || g1 - g0 <= kGroupScan || width > 255u + kGroupBox || height > 255u + kGroupBox) {
+            if (scan(first, end)) return true;
+        } else {
+            // A long run (dense tiles): only the groups whose union footprint meets the ray's
+            // (tile_bsp.hpp), in order, so the same entries pass in the same order as above.
+            std::uint32_t groups[kScanChunk + 16];
+            for (std::uint32_t h = g0; h < g1; h += kScanChunk) {
+                const std::uint32_t chunk = g1 - h < kScanChunk ? g1 - h : kScanChunk;
+                const std::uint32_t found = ctx_.scan(bsp.groups() + h, chunk, ray, groups);
+                for (std::uint32_t p = 0; p < found; ++p) {
+                    const std::uint32_t g = h + groups[p];
+                    const std::uint32_t a = g * TileBspView::kGroup, b = a + TileBspView::kGroup;
+                    if (scan(a < first ? first : a, b < end ? b : end)) return true;
                 }
             }
         }
@@ -287,7 +312,9 @@ private:
     Hit best_;
     static constexpr std::uint32_t kListed = 32;
     static constexpr std::uint32_t kScanChunk = 128;  // entries scanned per call of the kernel
-    std::uint32_t listed_ids_[kListed];  // ids tested in the first leaf, before the mailbox
+    static constexpr std::uint32_t kGroupScan = kDirectGroups;  // longer runs (in groups) are scanned group-wise
+    static constexpr std::uint32_t kGroupBox = 32;    // by rays whose box is at most this wide and high
+    std::uint32_t listed_ids_[kListed + 16];  // ids tested in the first leaf, before the mailbox (+ 16: TestedIds)
     std::uint32_t listed_ = 0;
     std::uint64_t listed_filter_[4] = {0, 0, 0, 0};  // bit (id & 255) set: id may be listed
     bool distinct_ = true;  // every id met so far came from one leaf (no repeats possible)

@@ -79,6 +79,9 @@ VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o) : options(o
     t.centre[0] = grid.centre.x; t.centre[1] = grid.centre.y; t.centre[2] = grid.centre.z;
     t.radius = grid.radius;
     t.inv_h = grid.inv_h;
+    t.h = grid.h;
+    t.pad = grid.pad;
+    t.lattice_scale = grid.lattice_scale;
     t.tiles = grid.n;
     t.box = world_box;
     simd = &vlf::vlf_kernels(kernels->isa);

@@ -15,13 +15,15 @@ std::uint32_t scan_scalar(const std::uint32_t* footprints, std::uint32_t count, 
     return n;
 }
 
-constexpr VlfKernels kScalar{Isa::scalar, nullptr, scan_scalar, occlude_entries_scalar, nullptr};
+constexpr VlfKernels kScalar{Isa::scalar, nullptr, scan_scalar, occlude_entries_scalar, nullptr,
+                             batch_candidates_scalar, batch_test_scalar};
 constexpr VlfKernels kSse42{Isa::sse42, simd_sse42::lookup_packet, simd_sse42::scan_footprints, occlude_entries_scalar,
-                            nullptr};
+                            nullptr, batch_candidates_scalar, batch_test_scalar};
 constexpr VlfKernels kAvx2{Isa::avx2, simd_avx2::lookup_packet, simd_avx2::scan_footprints, occlude_entries_scalar,
-                           nullptr};
+                           nullptr, batch_candidates_scalar, batch_test_scalar};
 constexpr VlfKernels kAvx512{Isa::avx512, simd_avx512::lookup_packet, simd_avx512::scan_footprints,
-                             simd_avx512::occlude_entries, simd_avx512::closest_entries};
+                             simd_avx512::occlude_entries, simd_avx512::closest_entries,
+                             simd_avx512::batch_candidates, simd_avx512::batch_test};
 
 }  // namespace
 

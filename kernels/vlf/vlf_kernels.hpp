@@ -3,13 +3,15 @@
 // kernels: the packet lookup (packet_lookup.hpp), the footprint scan (tile_footprint.hpp) and the
 // occlusion by a run of tile entries (entry_occlusion.hpp; AVX-512 only, the reference elsewhere)
 // and the closest hit among a leaf's entries (entry_closest_hit.hpp; AVX-512 only, nullptr
-// elsewhere: the walk's own leaf loop).
+// elsewhere: the walk's own leaf loop), and the two kernels of batched one-tile occlusion
+// (tile_ray_batch.hpp; AVX-512 only, the references elsewhere).
 #include <cstdint>
 
 #include "common/isa.hpp"
 #include "vlf/entry_closest_hit.hpp"
 #include "vlf/entry_occlusion.hpp"
 #include "vlf/packet_lookup.hpp"
+#include "vlf/tile_ray_batch.hpp"
 
 namespace beamtrace::vlf {
 
@@ -24,25 +26,31 @@ struct VlfKernels {
     ScanFootprintsFn scan_footprints;
     OccludeEntriesFn occlude_entries;
     ClosestEntriesFn closest_entries;
+    BatchCandidatesFn batch_candidates;  // tile_ray_batch.hpp (AVX-512; the references elsewhere)
+    BatchTestFn batch_test;
 };
 
 const VlfKernels& vlf_kernels(Isa isa);
 
 namespace simd_sse42 {
-void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&);
+void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&, bool);
 std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t*);
 }  // namespace simd_sse42
 namespace simd_avx2 {
-void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&);
+void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&, bool);
 std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t*);
 }  // namespace simd_avx2
 namespace simd_avx512 {
-void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&);
+void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&, bool);
 std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t*);
 EntriesAnswer occlude_entries(const WatertightRay&, const Triangle*, const std::uint32_t*, const std::uint32_t*,
                               std::uint32_t, std::uint32_t, bool, std::uint32_t*);
 bool closest_entries(const WatertightRay&, const Triangle*, const std::uint32_t*, const std::uint32_t*,
                      const std::uint32_t*, std::uint32_t, std::uint32_t, TestedIds&, Hit&);
+std::uint32_t batch_candidates(const std::uint32_t*, const std::uint32_t*, const std::uint32_t*, std::uint32_t,
+                               std::uint32_t, std::uint32_t, bool, std::uint32_t, std::uint32_t*, std::uint32_t*);
+std::uint32_t batch_test(const TileRayBatch&, const Triangle*, const std::uint32_t*, const std::uint32_t*, std::uint32_t,
+                         std::uint32_t);
 }  // namespace simd_avx512
 
 }  // namespace beamtrace::vlf

@@ -88,7 +88,7 @@ void add_beam_aligned(Soup& soup, const CanonicalFrame& f, const TileGrid& g, st
 TEST(VlfConservative, EveryTriangleMeetingATileIsInItsLeavesWithItsFootprint) {
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-    std::size_t checked_pairs = 0;
+    std::size_t checked_pairs = 0, grouped_entries = 0;
     for (int trial = 0; trial < 6; ++trial) {
         Float3 dir{u(rng), u(rng), std::fabs(u(rng)) + 0.05f};
         if (trial == 0) dir = Float3{0, 0, 1};
@@ -140,6 +140,13 @@ TEST(VlfConservative, EveryTriangleMeetingATileIsInItsLeavesWithItsFootprint) {
                             EXPECT_LE((f >> 8) & 0xFFu, need[1]) << "triangle " << id;
                             EXPECT_GE(255u - ((f >> 16) & 0xFFu), need[2]) << "triangle " << id;
                             EXPECT_GE(255u - (f >> 24), need[3]) << "triangle " << id;
+                            // Its group's union footprint holds it (every byte at most its byte).
+                            if (bsp.groups() != nullptr) {
+                                ++grouped_entries;
+                                const std::uint32_t g = bsp.groups()[k / TileBspView::kGroup];
+                                for (int shift = 0; shift < 32; shift += 8)
+                                    EXPECT_LE((g >> shift) & 0xFFu, (f >> shift) & 0xFFu) << "triangle " << id;
+                            }
                         }
                         ASSERT_TRUE(found) << "triangle " << id << " missing from leaf " << j << " of tile " << c
                                            << "," << r << " (trial " << trial << ")";
@@ -148,6 +155,7 @@ TEST(VlfConservative, EveryTriangleMeetingATileIsInItsLeavesWithItsFootprint) {
         }
     }
     EXPECT_GT(checked_pairs, 10000u);
+    (void)grouped_entries;  // dense tiles are rare in these soups: TileBsp.GroupsHoldTheirEntries covers them
 }
 
 TEST(VlfConservative, RasteriserIncludesEveryTileAnEdgeClipsAtACorner) {
@@ -162,5 +170,39 @@ TEST(VlfConservative, RasteriserIncludesEveryTileAnEdgeClipsAtACorner) {
     for (int k = 4; k < 8; ++k) {
         for (auto [c, r] : {std::pair{k, k}, std::pair{k - 1, k}, std::pair{k, k - 1}, std::pair{k + 1, k}})
             EXPECT_NE(std::find(tiles.begin(), tiles.end(), std::pair{c, r}), tiles.end()) << c << "," << r;
+    }
+}
+
+// Groups (tile_bsp.hpp): a tile of at least kGroupedTile entries holds, for every 16 entries, a
+// union footprint that holds each of their footprints; its leaves keep their entries (the same ids,
+// reordered); smaller tiles have none.
+TEST(TileBsp, GroupsHoldTheirEntries) {
+    std::mt19937 rng(131);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int trial = 0; trial < 40; ++trial) {
+        const std::size_t count = trial % 4 == 0 ? 100 : 300 + std::size_t(rng() % 2000);
+        std::vector<DepthItem> items(count);
+        for (std::size_t k = 0; k < count; ++k) {
+            const float lo = u(rng), hi = lo + 0.05f * u(rng);
+            const std::uint32_t x0 = rng() % 256, y0 = rng() % 256;
+            const std::uint32_t x1 = std::min<std::uint32_t>(255, x0 + rng() % 20), y1 = std::min<std::uint32_t>(255, y0 + rng() % 20);
+            items[k] = DepthItem{std::uint32_t(k * 3), lo, hi, x0 | (y0 << 8) | ((255 - x1) << 16) | ((255 - y1) << 24)};
+        }
+        TileBspBuilder builder(4);
+        std::vector<std::uint32_t> block;
+        const std::uint32_t leaves = builder.build(items, block);
+        const TileBspView bsp{block.data(), leaves};
+        ASSERT_EQ(bsp.words(), block.size());
+        if (bsp.entries() < TileBspView::kGroupedTile) {
+            EXPECT_EQ(bsp.groups(), nullptr);
+            continue;
+        }
+        ASSERT_NE(bsp.groups(), nullptr);
+        for (std::uint32_t k = 0; k < bsp.entries(); ++k) {
+            const std::uint32_t g = bsp.groups()[k / TileBspView::kGroup], f = bsp.footprints()[k];
+            for (int shift = 0; shift < 32; shift += 8) ASSERT_LE((g >> shift) & 0xFFu, (f >> shift) & 0xFFu);
+            ASSERT_EQ(bsp.ids()[k] % 3, 0u);
+            ASSERT_EQ(f, items[bsp.ids()[k] / 3].footprint);  // each id keeps its own footprint
+        }
     }
 }

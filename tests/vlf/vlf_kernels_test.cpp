@@ -81,13 +81,13 @@ TEST(VlfKernels, PacketLookupEqualsTheSingleRaySetUpBitForBit) {
     const std::vector<Packet16> packets = awkward_packets(scene.bounds(), rng, 3000);
     for (Isa isa : simd_isas()) {
         SCOPED_TRACE(isa_name(isa));
-        std::size_t valid = 0;
+        std::size_t valid = 0, one_tile = 0;
         for (const Packet16& p : packets) {
             PacketLookup a, b;
             field.simd = &vlf_kernels(Isa::scalar);
-            lookup_packet(field, p, a);
+            lookup_packet(field, p, a, true);
             field.simd = &vlf_kernels(isa);
-            lookup_packet(field, p, b);
+            lookup_packet(field, p, b, true);
             ASSERT_EQ(a.valid, b.valid);
             for (std::uint32_t m = a.valid; m; m &= m - 1) {
                 const int i = __builtin_ctz(m);
@@ -106,9 +106,15 @@ TEST(VlfKernels, PacketLookupEqualsTheSingleRaySetUpBitForBit) {
                 ASSERT_EQ(bits(a.sx[i]), bits(b.sx[i]));
                 ASSERT_EQ(bits(a.sy[i]), bits(b.sy[i]));
                 ASSERT_EQ(bits(a.sz[i]), bits(b.sz[i]));
+                ASSERT_EQ(bits(a.z0[i]), bits(b.z0[i])) << "lane " << i;
+                ASSERT_EQ(bits(a.z1[i]), bits(b.z1[i])) << "lane " << i;
+                ASSERT_EQ(a.footprint[i], b.footprint[i]) << "lane " << i;
             }
+            ASSERT_EQ(a.one_tile, b.one_tile);
+            one_tile += std::uint32_t(__builtin_popcount(a.one_tile));
         }
         EXPECT_GT(valid, 5000u);  // lanes that reach the box (many miss it on purpose)
+        EXPECT_GT(one_tile, 500u);  // segments inside their first tile
     }
 }
 
@@ -257,7 +263,7 @@ TEST(VlfKernels, EntryClosestHitEqualsScalar) {
             const double x = double(rng() % 256), y = double(rng() % 256), size = double(rng() % 3 == 0 ? 255 : rng() % 60);
             const std::uint32_t fp = lattice.ray(x, std::min(255.0, x + size), y, std::min(255.0, y + size));
             // A tested list holding some of these ids (and others), sometimes nearly full.
-            std::uint32_t list_a[32], list_b[32];
+            std::uint32_t list_a[32 + 16], list_b[32 + 16];  // + 16: TestedIds
             const std::uint32_t room = 32, listed = std::uint32_t(rng() % (trial % 5 == 0 ? 32 : 6));
             for (std::uint32_t k = 0; k < listed; ++k)
                 list_a[k] = list_b[k] = (count > 0 && k % 2 == 0) ? ids[rng() % count] : std::uint32_t(rng() % tris.size());
@@ -295,4 +301,108 @@ TEST(VlfKernels, EntryClosestHitEqualsScalar) {
     EXPECT_GT(improved, 100u);
     EXPECT_GT(undecided, 10u);
     EXPECT_GT(skipped_tested, 100u);
+}
+
+// The candidates of batched one-tile occlusion (tile_ray_batch.hpp) against the scalar reference:
+// the same pairs in the same order, for runs of every length and offset in a tile (long ones go
+// through the groups' union footprints), distinct ids or many repeats, footprints clustered (so
+// that whole groups miss the ray) or spread.
+TEST(VlfKernels, BatchCandidatesEqualScalar) {
+    std::mt19937 rng(101);
+    const BatchCandidatesFn scalar = vlf_kernels(Isa::scalar).batch_candidates;
+    std::size_t pairs = 0;
+    for (Isa isa : simd_isas()) {
+        SCOPED_TRACE(isa_name(isa));
+        const BatchCandidatesFn simd = vlf_kernels(isa).batch_candidates;
+        for (int trial = 0; trial < 3000; ++trial) {
+            const std::uint32_t entries = 1 + std::uint32_t(rng() % 700);
+            const bool distinct = trial % 2 == 0;
+            std::vector<std::uint32_t> ids(entries), footprints(entries);
+            for (std::uint32_t k = 0; k < entries; ++k) {
+                ids[k] = distinct ? std::uint32_t(trial * 1000 + k) : std::uint32_t(rng() % 12);
+                // Clustered: entries of one group near one another (as the builder orders them).
+                const std::uint32_t cx = (trial % 3 == 0) ? rng() % 256 : (k / 16 * 37) % 240;
+                const std::uint32_t x0 = std::min<std::uint32_t>(255, cx + rng() % 16), y0 = (trial % 3 == 0) ? rng() % 256 : x0;
+                const std::uint32_t x1 = x0 + rng() % (std::min<std::uint32_t>(256 - x0, 24)),
+                                    y1 = y0 + rng() % (std::min<std::uint32_t>(256 - y0, 24));
+                footprints[k] = x0 | (y0 << 8) | ((255 - x1) << 16) | ((255 - y1) << 24);
+            }
+            std::vector<std::uint32_t> groups((entries + 15) / 16, 0xFFFFFFFFu);
+            for (std::uint32_t k = 0; k < entries; ++k)
+                for (int shift = 0; shift < 32; shift += 8) {
+                    const std::uint32_t mask = 0xFFu << shift;
+                    if ((footprints[k] & mask) < (groups[k / 16] & mask))
+                        groups[k / 16] = (groups[k / 16] & ~mask) | (footprints[k] & mask);
+                }
+            const std::uint32_t first = std::uint32_t(rng() % entries);
+            const std::uint32_t count = std::uint32_t(rng() % (entries - first + 1));
+            const FootprintLattice lattice{0.0, 0.0, 1.0};
+            const double x = double(rng() % 256), y = double(rng() % 256), size = double(rng() % 3 == 0 ? 255 : rng() % 40);
+            const std::uint32_t fp = lattice.ray(x, std::min(255.0, x + size), y, std::min(255.0, y + size));
+            const std::uint32_t lane = std::uint32_t(rng() % 16);
+            std::vector<std::uint32_t> ia(count + 16), la(count + 16), ib(count + 16), lb(count + 16);
+            const std::uint32_t* g = trial % 4 == 1 ? nullptr : groups.data();  // a tile without groups
+            const std::uint32_t na = scalar(g, footprints.data(), ids.data(), first, count, fp, distinct, lane, ia.data(), la.data());
+            const std::uint32_t nb = simd(g, footprints.data(), ids.data(), first, count, fp, distinct, lane, ib.data(), lb.data());
+            ASSERT_EQ(na, nb) << "trial " << trial;
+            for (std::uint32_t k = 0; k < na; ++k) {
+                ASSERT_EQ(ia[k], ib[k]) << "trial " << trial << " pair " << k;
+                ASSERT_EQ(la[k], lane);
+                ASSERT_EQ(lb[k], lane);
+            }
+            pairs += na;
+        }
+    }
+    if (simd_isas().empty()) GTEST_SKIP() << "no SIMD instruction set on this CPU";
+    EXPECT_GT(pairs, 10000u);
+}
+
+// The pair test of batched one-tile occlusion against the scalar reference, and the reference
+// against the watertight test of each ray on its own: rays of every direction (so every axis
+// permutation), pairs of all 16 lanes in any order, rays already occluded on entry.
+TEST(VlfKernels, BatchTestEqualsScalarAndSingleRays) {
+    const Scene scene = test::random_soup(300, 102, 0.5f);
+    const std::span<const Triangle> tris = scene.triangles();
+    std::mt19937 rng(103);
+    const std::vector<Ray> rays = test::random_rays(scene.bounds(), 16 * 400, 104);
+    const BatchTestFn scalar = vlf_kernels(Isa::scalar).batch_test;
+    std::size_t occluded_rays = 0;
+    for (std::size_t b = 0; b < rays.size() / 16; ++b) {
+        TileRayBatch batch;
+        batch.count = 16;
+        WatertightRay w[16];
+        for (std::uint32_t i = 0; i < 16; ++i) {
+            w[i] = make_watertight_ray(rays[b * 16 + i]);
+            const float o[3] = {w[i].org.x, w[i].org.y, w[i].org.z};
+            TileRay r{};
+            r.kx = w[i].kx; r.ky = w[i].ky; r.kz = w[i].kz;
+            r.okx = o[w[i].kx]; r.oky = o[w[i].ky]; r.okz = o[w[i].kz];
+            r.sx = w[i].sx; r.sy = w[i].sy; r.sz = w[i].sz;
+            r.tnear = w[i].tnear; r.tfar = w[i].tfar;
+            r.slot = i;
+            batch.set(i, r);
+        }
+        const std::uint32_t count = std::uint32_t(rng() % 300);
+        std::vector<std::uint32_t> ids(count), lanes(count);
+        for (std::uint32_t p = 0; p < count; ++p) {
+            ids[p] = std::uint32_t(rng() % tris.size());
+            lanes[p] = std::uint32_t(rng() % 16);
+        }
+        const std::uint32_t before = b % 3 == 0 ? std::uint32_t(rng()) & 0xFFFFu : 0u;
+        // The reference: each pair's ray on its own.
+        std::uint32_t expected = before;
+        for (std::uint32_t p = 0; p < count; ++p) {
+            TriangleHit h;
+            if (intersect_triangle(w[lanes[p]], tris[ids[p]], h)) expected |= 1u << lanes[p];
+        }
+        const std::uint32_t a = scalar(batch, tris.data(), ids.data(), lanes.data(), count, before);
+        ASSERT_EQ(a, expected) << "batch " << b;
+        occluded_rays += std::uint32_t(__builtin_popcount(a & ~before));
+        for (Isa isa : simd_isas()) {
+            SCOPED_TRACE(isa_name(isa));
+            ASSERT_EQ(vlf_kernels(isa).batch_test(batch, tris.data(), ids.data(), lanes.data(), count, before), a)
+                << "batch " << b;
+        }
+    }
+    EXPECT_GT(occluded_rays, 150u);
 }

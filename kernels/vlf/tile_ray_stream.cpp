@@ -1,0 +1,256 @@
+// TileRayBins: one-tile rays of binned occlusion streams, binned per PSF, ordered by tile and traced
+// in batches of 16 (see tile_ray_stream.hpp).
+#include "vlf/tile_ray_stream.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include <immintrin.h>
+
+#include "vlf/tile_walk.hpp"
+
+namespace beamtrace::vlf {
+
+TileRayBins& TileRayBins::local() {
+    thread_local TileRayBins bins;
+    return bins;
+}
+
+void TileRayBins::begin(std::size_t psfs, std::size_t rays) {
+    const std::size_t chunks = (rays + kChunk - 1) / kChunk + psfs;
+    if (pool_size_ < chunks * kChunk) {
+        pool_size_ = chunks * kChunk;
+        pool_ = std::make_unique<TileRay[]>(pool_size_ + 8);  // + 8: read ahead
+        keys_ = std::make_unique<std::uint32_t[]>(pool_size_);
+    }
+    chunks_ = 0;
+    link_.resize(chunks);
+    last_.assign(psfs, kNone);
+    fill_.assign(psfs, 0);
+    count_.assign(psfs, 0);
+}
+
+bool TileRayBins::take(const VisibilityField::Impl& f, const Packet16& p, const PacketLookup& l, int i,
+                       std::uint32_t slot, VlfMode mode) {
+    if (mode == VlfMode::exact && !((l.one_tile >> i) & 1u)) return false;
+    const std::uint32_t psf = l.psf[i];
+    if (last_[psf] == kNone || fill_[psf] == kChunk) {
+        link_[chunks_] = last_[psf];
+        last_[psf] = chunks_++;
+        fill_[psf] = 0;
+    }
+    TileRay r;
+    r.tile = std::uint32_t(l.row[i]) * std::uint32_t(f.grid.n) + std::uint32_t(l.column[i]);
+    r.slot = slot;
+    r.z0 = l.z0[i];
+    r.z1 = l.z1[i];
+    r.footprint = l.footprint[i];
+    const float o[3] = {p.org_x[i], p.org_y[i], p.org_z[i]};
+    r.kx = l.kx[i]; r.ky = l.ky[i]; r.kz = l.kz[i];
+    r.okx = o[r.kx]; r.oky = o[r.ky]; r.okz = o[r.kz];
+    r.sx = l.sx[i]; r.sy = l.sy[i]; r.sz = l.sz[i];
+    r.tnear = p.tnear[i];
+    r.tfar = p.tfar[i];
+    // One streaming store of the whole line: the pool is far larger than the caches, and a plain
+    // store would first read the line it overwrites.
+    const std::size_t at = std::size_t(last_[psf]) * kChunk + fill_[psf]++;
+    keys_[at] = r.tile;
+    auto* to = reinterpret_cast<__m128i*>(&pool_[at]);
+    const auto* from = reinterpret_cast<const __m128i*>(&r);
+    for (int k = 0; k < 4; ++k) _mm_stream_si128(to + k, _mm_load_si128(from + k));
+    ++count_[psf];
+    return true;
+}
+
+void TileRayBins::trace(const VisibilityField::Impl& f, std::span<std::uint32_t> occluded) {
+    const auto n = std::uint32_t(f.grid.n);
+    for (std::size_t psf = 0; psf < last_.size(); ++psf) {
+        const std::size_t m = count_[psf];
+        if (m == 0) continue;
+        if (sorted_size_ < m) {
+            sorted_size_ = std::max<std::size_t>(m, 2 * sorted_size_);
+            sorted_[0] = std::make_unique<TileRay[]>(sorted_size_);
+            sorted_[1] = std::make_unique<TileRay[]>(sorted_size_);
+        }
+        // Counting sort out of the chunks (the keys first, dense; then each record once, read in
+        // order): by tile where the grid is small, else by column and then by row (stable). Tiles
+        // then come in row-major order, the order of their blocks in the pool.
+        auto each = [&](auto&& g) {
+            for (std::uint32_t c = last_[psf]; c != kNone; c = link_[c]) {
+                const std::uint32_t size = c == last_[psf] ? fill_[psf] : kChunk;
+                const std::size_t at = std::size_t(c) * kChunk;
+                for (std::uint32_t k = 0; k < size; ++k) {
+                    _mm_prefetch(reinterpret_cast<const char*>(&pool_[at + k + 8]), _MM_HINT_T0);
+                    g(keys_[at + k], pool_[at + k]);
+                }
+            }
+        };
+        TileRay* out = sorted_[1].get();
+        const std::uint32_t tiles = n * n;
+        if (tiles <= kTileSortLimit) {
+            next_.assign(std::size_t(tiles) + 1, 0);
+            for (std::uint32_t c = last_[psf]; c != kNone; c = link_[c]) {
+                const std::uint32_t size = c == last_[psf] ? fill_[psf] : kChunk;
+                for (std::uint32_t k = 0; k < size; ++k) ++next_[keys_[std::size_t(c) * kChunk + k] + 1];
+            }
+            for (std::uint32_t b = 0; b < tiles; ++b) next_[b + 1] += next_[b];
+            each([&](std::uint32_t tile, const TileRay& r) { out[next_[tile]++] = r; });
+        } else {
+            TileRay* by_column = sorted_[0].get();
+            next_.assign(std::size_t(n) + 1, 0);
+            each([&](std::uint32_t tile, const TileRay&) { ++next_[tile % n + 1]; });
+            for (std::uint32_t b = 0; b < n; ++b) next_[b + 1] += next_[b];
+            each([&](std::uint32_t tile, const TileRay& r) { by_column[next_[tile % n]++] = r; });
+            next_.assign(std::size_t(n) + 1, 0);
+            for (std::size_t k = 0; k < m; ++k) ++next_[by_column[k].tile / n + 1];
+            for (std::uint32_t b = 0; b < n; ++b) next_[b + 1] += next_[b];
+            for (std::size_t k = 0; k < m; ++k) out[next_[by_column[k].tile / n]++] = by_column[k];
+        }
+        const TileRay* by_row = out;
+        trace_psf(f, f.psf(std::uint32_t(psf)), std::span<const TileRay>(by_row, m), occluded);
+    }
+}
+
+void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfield& psf, std::span<const TileRay> rays,
+                            std::span<std::uint32_t> occluded) {
+    const std::size_t batches = (rays.size() + 15) / 16;
+    const Triangle* triangles = f.triangles.data();
+    const VlfKernels& kernels = *f.simd;
+    auto range = [&](std::size_t b) {
+        return std::pair<std::size_t, std::size_t>{16 * b, std::min(rays.size(), 16 * b + 16)};
+    };
+    // Stage 1: the tile entries.
+    auto request_entries = [&](std::size_t b) {
+        const auto [first, end] = range(b);
+        for (std::size_t i = first; i < end; ++i) psf.prefetch_tile(rays[i].tile);
+    };
+    // Stage 2: the splits and leaf ends at the head of each block.
+    auto request_heads = [&](std::size_t b) {
+        const auto [first, end] = range(b);
+        for (std::size_t i = first; i < end; ++i) {
+            if (i > first && rays[i].tile == rays[i - 1].tile) continue;
+            const TileRef ref = psf.tile(rays[i].tile);
+            if (ref.leaves) psf.prefetch_block(ref, 0, 2 * ref.leaves - 1);
+        }
+    };
+    struct Stage {
+        TileRayBatch batch;
+        const std::uint32_t* groups[16];
+        const std::uint32_t* footprints[16];
+        const std::uint32_t* ids[16];
+        std::uint32_t first[16], count[16];
+        bool distinct[16];
+        std::uint32_t pairs = 0;
+    };
+    Stage ring[8];
+    // Stage 3: each ray's leaves, and the footprints and ids of their entries requested.
+    auto request_entries_of_leaves = [&](std::size_t b) {
+        const auto [first, end] = range(b);
+        Stage& s = ring[b % 8];
+        for (std::size_t i = first; i < end; ++i) {
+            const TileRay& r = rays[i];
+            const std::size_t lane = i - first;
+            s.count[lane] = 0;
+            const TileRef ref = psf.tile(r.tile);
+            if (ref.leaves == 0) continue;
+            const TileBspView bsp = psf.view(ref);
+            std::uint32_t j0 = 0, j1 = 0;
+            if (ref.leaves > 1) {
+                j0 = bsp.leaf(r.z0);
+                j1 = bsp.leaf(r.z1);
+                if (j0 > j1) std::swap(j0, j1);
+            }
+            const std::uint32_t e0 = bsp.begin(j0), count = bsp.end(j1) - e0;
+            s.groups[lane] = bsp.groups();
+            s.footprints[lane] = bsp.footprints();
+            s.ids[lane] = bsp.ids();
+            s.first[lane] = e0;
+            s.count[lane] = count;
+            s.distinct[lane] = j0 == j1;
+            // A short run: its footprints and ids; a long one: its groups' union footprints.
+            const std::uint32_t g0 = e0 / 16, g1 = (e0 + count + 15) / 16;
+            if (s.groups[lane] == nullptr || g1 - g0 <= kDirectGroups) {
+                const char* a = reinterpret_cast<const char*>(s.footprints[lane] + e0);
+                const char* c = reinterpret_cast<const char*>(s.ids[lane] + e0);
+                for (std::uint32_t k = 0; k < 4 * count + 63; k += 64) {
+                    _mm_prefetch(a + k, _MM_HINT_T0);
+                    _mm_prefetch(c + k, _MM_HINT_T0);
+                }
+            } else {
+                const char* a = reinterpret_cast<const char*>(s.groups[lane] + g0);
+                for (std::uint32_t k = 0; k < 4 * (g1 - g0) + 63; k += 64) _mm_prefetch(a + k, _MM_HINT_T0);
+            }
+        }
+    };
+    // Stage 4: for long runs, the entries of the groups whose union meets the ray requested.
+    std::vector<std::uint32_t>& passing = passing_;
+    auto request_groups = [&](std::size_t b) {
+        const auto [first, end] = range(b);
+        const Stage& s = ring[b % 8];
+        for (std::size_t i = first; i < end; ++i) {
+            const std::size_t lane = i - first;
+            const std::uint32_t e0 = s.first[lane], count = s.count[lane];
+            const std::uint32_t g0 = e0 / 16, g1 = (e0 + count + 15) / 16;
+            if (count == 0 || s.groups[lane] == nullptr || g1 - g0 <= kDirectGroups) continue;
+            if (passing.size() < g1 - g0 + 16) passing.resize(2 * (g1 - g0 + 16));
+            const std::uint32_t n = kernels.scan_footprints(s.groups[lane] + g0, g1 - g0, rays[i].footprint, passing.data());
+            for (std::uint32_t k = 0; k < n; ++k) {
+                const std::uint32_t g = g0 + passing[k];
+                _mm_prefetch(reinterpret_cast<const char*>(s.footprints[lane] + 16 * g), _MM_HINT_T0);
+                _mm_prefetch(reinterpret_cast<const char*>(s.ids[lane] + 16 * g), _MM_HINT_T0);
+            }
+        }
+    };
+    // Stage 5: the candidates, and their triangles requested.
+    auto candidates = [&](std::size_t b) {
+        const auto [first, end] = range(b);
+        Stage& s = ring[b % 8];
+        std::vector<std::uint32_t>& ids = ids_[b & 1];
+        std::vector<std::uint32_t>& lanes = lanes_[b & 1];
+        TileRayBatch& t = s.batch;
+        t.count = std::uint32_t(end - first);
+        std::uint32_t found = 0;
+        for (std::uint32_t lane = 0; lane < t.count; ++lane) {
+            t.set(lane, rays[first + lane]);
+            const std::uint32_t count = s.count[lane];
+            if (count == 0) continue;
+            if (ids.size() < found + count + 16) {
+                ids.resize(2 * (found + count + 16));
+                lanes.resize(ids.size());
+            }
+            found += kernels.batch_candidates(s.groups[lane], s.footprints[lane], s.ids[lane], s.first[lane], count,
+                                              rays[first + lane].footprint, s.distinct[lane], lane, ids.data() + found,
+                                              lanes.data() + found);
+        }
+        s.pairs = found;
+        for (std::uint32_t p = 0; p < found; ++p) {
+            const char* a = reinterpret_cast<const char*>(triangles + ids[p]);
+            _mm_prefetch(a, _MM_HINT_T0);
+            _mm_prefetch(a + sizeof(Triangle) - 1, _MM_HINT_T0);
+        }
+    };
+    // Stage 6: the test.
+    auto test = [&](std::size_t b) {
+        const Stage& s = ring[b % 8];
+        const std::uint32_t bits =
+            kernels.batch_test(s.batch, triangles, ids_[b & 1].data(), lanes_[b & 1].data(), s.pairs, 0);
+        for (std::uint32_t m = bits; m; m &= m - 1) {
+            const std::uint32_t slot = s.batch.slot[__builtin_ctz(m)];
+            occluded[slot / 16] |= 1u << (slot % 16);
+        }
+    };
+    // Batch b is tested while b + 1 is scanned, b + 2 has its groups' entries requested, b + 3 its
+    // leaves' entries (or groups), b + 5 its blocks' heads, b + 7 its tile entries (distances
+    // measured on the bunny's and the room's AO rays).
+    constexpr std::size_t H = 2, L = 4, G = 5, C = 6, T = C + 1;
+    for (std::size_t b = 0; b < batches + T; ++b) {
+        if (b < batches) request_entries(b);
+        if (b >= H && b - H < batches) request_heads(b - H);
+        if (b >= L && b - L < batches) request_entries_of_leaves(b - L);
+        if (b >= G && b - G < batches) request_groups(b - G);
+        if (b >= C && b - C < batches) candidates(b - C);
+        if (b >= T) test(b - T);
+    }
+}
+
+}  // namespace beamtrace::vlf

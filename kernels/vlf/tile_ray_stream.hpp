@@ -1,0 +1,68 @@
+#pragma once
+// The rays of a binned occlusion stream (ray_stream.cpp) whose segments stay in the tile where they
+// start (section 7: AO rays along PSF directions; in mode fast, every ray), traced in batches of 16
+// (tile_ray_batch.hpp) instead of one walk each. The stream's first pass hands each looked-up ray
+// to take(); the ones it keeps go, as 64-byte TileRays, into per-PSF bins (chunks of a per-thread
+// pool kept from one call to the next, so that a timed pass does not pay for fresh pages); trace()
+// then orders each bin by tile (counting sorts: column, then row) and traces it as a pipeline:
+//
+//   batch b + 7: the rays' tile entries requested from memory;
+//   batch b + 5: the entries read, the heads of the tiles' blocks (splits, leaf ends) requested;
+//   batch b + 3: each ray's leaves found, their entries' footprints and ids requested (for a long
+//                run, the groups' union footprints, tile_bsp.hpp);
+//   batch b + 2: for a long run, the entries of the groups that meet the ray requested;
+//   batch b + 1: the candidates (footprint scan) made, their triangles requested;
+//   batch b:     the candidates tested.
+//
+// No lookup is made twice: a TileRay holds the leaf depths, the footprint and the watertight
+// set-up its lookup gave.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "beamtrace/vlf.hpp"
+#include "vlf/packet_lookup.hpp"
+#include "vlf/tile_ray_batch.hpp"
+#include "vlf/vlf_impl.hpp"
+
+namespace beamtrace::vlf {
+
+class TileRayBins {
+public:
+    // The calling thread's bins.
+    static TileRayBins& local();
+
+    // Empties the bins, for a stream of at most `rays` rays over `psfs` PSFs.
+    void begin(std::size_t psfs, std::size_t rays);
+    // Lane i of a looked-up packet (valid in l), slot its place in the stream: true if kept (its
+    // segment lies in its first tile; in mode fast, always).
+    bool take(const VisibilityField::Impl& f, const Packet16& p, const PacketLookup& l, int i, std::uint32_t slot,
+              VlfMode mode);
+    // Traces the kept rays; sets bit slot % 16 of occluded[slot / 16] for each occluded one.
+    void trace(const VisibilityField::Impl& f, std::span<std::uint32_t> occluded);
+
+private:
+    static constexpr std::uint32_t kChunk = 256;
+    static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+    void trace_psf(const VisibilityField::Impl& f, const ParallelSubfield& psf, std::span<const TileRay> rays,
+                   std::span<std::uint32_t> occluded);
+
+    // Grids of at most this many tiles are sorted by tile in one pass, larger ones by column and row.
+    static constexpr std::uint32_t kTileSortLimit = 1u << 16;
+    std::unique_ptr<TileRay[]> pool_;        // chunks of kChunk rays
+    std::unique_ptr<std::uint32_t[]> keys_;  // their tiles, dense
+    std::size_t pool_size_ = 0;
+    std::uint32_t chunks_ = 0;
+    std::vector<std::uint32_t> link_;   // chunk -> the PSF's previous chunk (kNone: first)
+    std::vector<std::uint32_t> last_;   // PSF -> its newest chunk (kNone: none)
+    std::vector<std::uint32_t> fill_;   // PSF -> rays in its newest chunk
+    std::vector<std::uint32_t> count_;  // PSF -> rays
+    std::unique_ptr<TileRay[]> sorted_[2];  // a bin ordered by column, then by row
+    std::size_t sorted_size_ = 0;
+    std::vector<std::uint32_t> next_;   // counting sort
+    std::vector<std::uint32_t> ids_[2], lanes_[2];  // candidate pairs of two batches
+    std::vector<std::uint32_t> passing_;            // groups of a long run that meet a ray
+};
+
+}  // namespace beamtrace::vlf
