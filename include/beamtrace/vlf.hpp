@@ -78,6 +78,7 @@ struct VlfStats {
     std::size_t tile_entries = 0;    // triangle ids over every leaf of every built PSF
     std::size_t leaves = 0;          // tile-BSP leaves over every built PSF
     std::size_t memory_bytes = 0;    // built PSFs, direction table, the field's copy of the triangles
+    std::size_t stream_bytes = 0;    // buffers of binned occlusion streams, kept for the next stream
     double build_seconds = 0.0;      // over every PSF built so far (lazy builds included)
 };
 

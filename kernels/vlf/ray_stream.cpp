@@ -175,9 +175,9 @@ void VisibilityField::occluded(std::span<const Packet16> packets, std::span<std:
     };
     if (order == VlfOrder::input) return in_order(f, packets, walk);
     // Binned: rays whose segment stays in one tile in batches (tile_ray_stream.hpp), the others walk.
-    vlf::TileRayBins& tiles = vlf::TileRayBins::local();
-    binned(f, packets, walk, &tiles, mode);
-    tiles.trace(f, occluded);
+    vlf::TileRayLease lease(f);
+    binned(f, packets, walk, &lease.bins(), mode);
+    lease.bins().trace(f, occluded);
 }
 
 }  // namespace beamtrace

@@ -11,9 +11,25 @@
 
 namespace beamtrace::vlf {
 
-TileRayBins& TileRayBins::local() {
-    thread_local TileRayBins bins;
-    return bins;
+TileRayLease::TileRayLease(const VisibilityField::Impl& f) : field_(f) {
+    {
+        std::lock_guard<std::mutex> lock(f.stream_bins_lock);
+        if (!f.stream_bins.empty()) {
+            bins_ = std::move(f.stream_bins.back());
+            f.stream_bins.pop_back();
+        }
+    }
+    if (!bins_) bins_ = std::make_unique<TileRayBins>();
+}
+
+TileRayLease::~TileRayLease() {
+    std::lock_guard<std::mutex> lock(field_.stream_bins_lock);
+    field_.stream_bins.push_back(std::move(bins_));
+}
+
+std::size_t TileRayBins::bytes() const {
+    return (pool_size_ + 8) * sizeof(TileRay) + pool_size_ * sizeof(std::uint32_t) +
+           (link_.capacity() + last_.capacity() + fill_.capacity() + count_.capacity()) * sizeof(std::uint32_t);
 }
 
 void TileRayBins::begin(std::size_t psfs, std::size_t rays) {

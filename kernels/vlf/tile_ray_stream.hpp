@@ -2,8 +2,9 @@
 // The rays of a binned occlusion stream (ray_stream.cpp) whose segments stay in the tile where they
 // start (section 7: AO rays along PSF directions; in mode fast, every ray), traced in batches of 16
 // (tile_ray_batch.hpp) instead of one walk each. The stream's first pass hands each looked-up ray
-// to take(); the ones it keeps go, as 64-byte TileRays, into per-PSF bins (chunks of a per-thread
-// pool kept from one call to the next, so that a timed pass does not pay for fresh pages); trace()
+// to take(); the ones it keeps go, as 64-byte TileRays, into per-PSF bins (chunks of a pool the
+// field lends, kept from one call to the next, so that a timed pass does not pay for fresh pages,
+// and freed with the field; VlfStats::stream_bytes counts it); trace()
 // then orders each bin by tile (counting sorts: column, then row) and traces it as a pipeline:
 //
 //   batch b + 7: the rays' tile entries requested from memory;
@@ -30,8 +31,6 @@ namespace beamtrace::vlf {
 
 class TileRayBins {
 public:
-    // The calling thread's bins.
-    static TileRayBins& local();
 
     // Empties the bins, for a stream of at most `rays` rays over `psfs` PSFs.
     void begin(std::size_t psfs, std::size_t rays);
@@ -41,6 +40,8 @@ public:
               VlfMode mode);
     // Traces the kept rays; sets bit slot % 16 of occluded[slot / 16] for each occluded one.
     void trace(const VisibilityField::Impl& f, std::span<std::uint32_t> occluded);
+    // Bytes held (the pool and its keys).
+    std::size_t bytes() const;
 
 private:
     static constexpr std::uint32_t kChunk = 256;
@@ -63,6 +64,21 @@ private:
     std::vector<std::uint32_t> next_;   // counting sort
     std::vector<std::uint32_t> ids_[2], lanes_[2];  // candidate pairs of two batches
     std::vector<std::uint32_t> passing_;            // groups of a long run that meet a ray
+};
+
+// A TileRayBins of the field's for the duration of one stream (taken from the field's spares, or
+// made; given back at the end).
+class TileRayLease {
+public:
+    explicit TileRayLease(const VisibilityField::Impl& f);
+    ~TileRayLease();
+    TileRayLease(const TileRayLease&) = delete;
+    TileRayLease& operator=(const TileRayLease&) = delete;
+    TileRayBins& bins() { return *bins_; }
+
+private:
+    const VisibilityField::Impl& field_;
+    std::unique_ptr<TileRayBins> bins_;
 };
 
 }  // namespace beamtrace::vlf

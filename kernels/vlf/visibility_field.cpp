@@ -11,6 +11,7 @@
 #include "vlf/direction_set_impl.hpp"
 #include "vlf/field_query.hpp"
 #include "vlf/spatial_order.hpp"
+#include "vlf/tile_ray_stream.hpp"
 
 namespace beamtrace {
 
@@ -27,6 +28,8 @@ void VlfOptions::validate() const {
                 throw Error("VLF bounds must be a finite, non-empty box");
     }
 }
+
+VisibilityField::Impl::~Impl() = default;
 
 VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o) : options(o), directions((o.validate(), o.directions)) {
     bounds = o.bounds ? *o.bounds : scene.bounds();
@@ -169,6 +172,10 @@ VlfStats VisibilityField::stats() const {
         s.memory_bytes += p.memory_bytes();
         s.build_seconds += p.build_seconds();
     });
+    {
+        std::lock_guard<std::mutex> lock(f.stream_bins_lock);
+        for (const auto& b : f.stream_bins) s.stream_bytes += b->bytes();
+    }
     return s;
 }
 

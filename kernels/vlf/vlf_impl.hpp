@@ -16,6 +16,10 @@
 
 namespace beamtrace {
 
+namespace vlf {
+class TileRayBins;
+}
+
 struct VisibilityField::Impl {
     VlfOptions options;
     DirectionSet directions;
@@ -39,8 +43,14 @@ struct VisibilityField::Impl {
     mutable std::vector<std::unique_ptr<vlf::ParallelSubfield>> psfs;
     mutable std::unique_ptr<std::atomic<const vlf::ParallelSubfield*>[]> ready;
     mutable std::unique_ptr<std::mutex[]> build_locks;
+    // Bins of binned occlusion streams (tile_ray_stream.hpp): one per stream running at a time,
+    // kept for the next stream (so that a pass does not pay for fresh pages) and freed with the
+    // field. Lent by TileRayLease.
+    mutable std::mutex stream_bins_lock;
+    mutable std::vector<std::unique_ptr<vlf::TileRayBins>> stream_bins;
 
     Impl(const Scene& scene, const VlfOptions& options);
+    ~Impl();  // in visibility_field.cpp, where TileRayBins is complete
 
     vlf::SubfieldInput input() const {
         return vlf::SubfieldInput{&grid, triangles, present, options.depth};

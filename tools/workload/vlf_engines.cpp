@@ -78,6 +78,7 @@ public:
                 {"tile_entries", s.tile_entries},
                 {"leaves", s.leaves},
                 {"memory_bytes", s.memory_bytes},
+                {"stream_bytes", s.stream_bytes},
                 {"build_seconds", s.build_seconds},
                 {"candidates_per_lookup", field_->directions().candidates_per_lookup()},
                 {"mean_tiles_per_ray", double(c.tiles) / n},
