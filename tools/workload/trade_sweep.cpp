@@ -39,7 +39,8 @@ std::string mlrta_settings(const MlrtaSettings& m) {
     return "tile=" + std::to_string(m.initial_tile) + " split=" + std::to_string(m.split_factor) +
            " min=" + std::to_string(m.min_tile) +
            " frustum=" + (m.frustum_test == FrustumTest::inverse ? "inverse" : "direct") +
-           " culling=" + (m.triangle_culling ? "on" : "off");
+           " culling=" + (m.triangle_culling ? "on" : "off") + " ep-triangles=" + (m.ep_triangles ? "on" : "off") +
+           " stuck-stop=" + (m.stop_when_stuck ? "on" : "off");
 }
 
 // The kd-tree variants: the defaults (the three MLRTA rules on), no rules, each rule off alone,
@@ -72,16 +73,22 @@ std::vector<std::pair<std::string, KdBuildRules>> kd_variants() {
     return v;
 }
 
-// MLRTA's beam settings; only the defaults and triangle culling when the rays form no image (the
-// engine then traces packet by packet and the tile settings do nothing).
+// MLRTA's beam settings; only the defaults and triangle culling off when the rays form no image
+// (the engine then traces packet by packet and the tile settings do nothing).
 std::vector<std::pair<std::string, MlrtaSettings>> mlrta_variants(bool image) {
     const MlrtaSettings defaults;
     std::vector<std::pair<std::string, MlrtaSettings>> v;
     v.emplace_back("", defaults);
     MlrtaSettings m = defaults;
-    m.triangle_culling = true;
-    v.emplace_back(" culling", m);
+    m.triangle_culling = false;
+    v.emplace_back(" no culling", m);
     if (!image) return v;
+    m = defaults;
+    m.ep_triangles = false;
+    v.emplace_back(" no EP triangles", m);
+    m = defaults;
+    m.stop_when_stuck = false;
+    v.emplace_back(" paper schedule", m);
     m = defaults;
     m.frustum_test = FrustumTest::direct;
     v.emplace_back(" direct", m);
