@@ -44,10 +44,10 @@ double reversal_error(const Ray& ray, const Ray& back) {
 // world origin, or with an infinite tfar, the rounded segment would be another segment, so such
 // packets are traced as they are (docs/robustness.md). Packets whose rays aim at several points
 // are reversed ray by ray (reversed()) when that is exact enough, checked in double.
-std::vector<Packet16> reversed_packets(const RaySet& rays, const Box& bounds, int threads) {
+void reversed_packets(const RaySet& rays, const Box& bounds, int threads, std::vector<Packet16>& out) {
     const Float3 e = bounds.extent();  // the diagonal in double: float overflows from about 1e19 on
     const double tolerance = 1e-6 * std::sqrt(double(e.x) * e.x + double(e.y) * e.y + double(e.z) * e.z);
-    std::vector<Packet16> out(rays.packets.size());
+    out.resize(rays.packets.size());
     for_packet_ranges(rays.packets.size(), threads, [&](std::size_t begin, std::size_t end) {
         for (std::size_t p = begin; p < end; ++p) {
             const Packet16& in = rays.packets[p];
@@ -63,7 +63,6 @@ std::vector<Packet16> reversed_packets(const RaySet& rays, const Box& bounds, in
             if (!exact) out[p] = in;
         }
     });
-    return out;
 }
 
 class MlrtaEngine : public Engine {
@@ -81,28 +80,40 @@ public:
     std::size_t memory_bytes() const override { return tree_->stats().bytes + mlrta_->memory_bytes(); }
 
     void intersect(const RaySet& rays, std::vector<Hit>& hits, int threads) const override {
-        std::vector<PacketHits16> out(rays.packets.size());
+        // The packets' hits go to a buffer kept between calls (a fresh 16 MB per call is page faults
+        // on one thread) and are spread into `hits` by as many threads as the tracing.
+        std::vector<PacketHits16>& out = packet_hits_;
+        out.resize(rays.packets.size());
         trace(rays, rays.packets, threads, out.data(), nullptr, nullptr);
         hits.assign(rays.slots(), Hit{});
-        for (std::size_t p = 0; p < out.size(); ++p)
-            for (int i = 0; i < 16; ++i)
-                if ((rays.packets[p].active >> i) & 1u) hits[p * 16 + std::size_t(i)] = out[p].hit(i);
+        for_packet_ranges(out.size(), threads, [&](std::size_t b, std::size_t e) {
+            for (std::size_t p = b; p < e; ++p)
+                for (std::uint32_t m = rays.packets[p].active & 0xFFFFu; m; m &= m - 1) {
+                    const int i = __builtin_ctz(m);
+                    hits[p * 16 + std::size_t(i)] = out[p].hit(i);
+                }
+        });
     }
 
     void occluded(const RaySet& rays, std::vector<std::uint8_t>& occluded, int threads) const override {
-        const std::vector<Packet16> packets = beams_ ? reversed_packets(rays, tree_->scene().bounds(), threads) : rays.packets;
-        std::vector<std::uint32_t> bits(rays.packets.size(), 0);
-        trace(rays, packets, threads, nullptr, bits.data(), nullptr);
+        // Buffers kept between calls, like packet_hits_.
+        if (beams_) reversed_packets(rays, tree_->scene().bounds(), threads, reversed_);
+        std::vector<std::uint32_t>& bits = packet_bits_;
+        bits.assign(rays.packets.size(), 0);
+        trace(rays, beams_ ? reversed_ : rays.packets, threads, nullptr, bits.data(), nullptr);
         occluded.assign(rays.slots(), 0);
-        for (std::size_t p = 0; p < bits.size(); ++p)
-            for (int i = 0; i < 16; ++i) occluded[p * 16 + std::size_t(i)] = (bits[p] >> i) & 1u;
+        for_packet_ranges(bits.size(), threads, [&](std::size_t b, std::size_t e) {
+            for (std::size_t p = b; p < e; ++p)
+                for (int i = 0; i < 16; ++i) occluded[p * 16 + std::size_t(i)] = (bits[p] >> i) & 1u;
+        });
     }
 
     nlohmann::json stats(const RaySet& rays) const override {
         MlrtaCounters c;
         const bool closest = rays.mode == Mode::primary;
-        const std::vector<Packet16> packets =
-            (!closest && beams_) ? reversed_packets(rays, tree_->scene().bounds(), 1) : rays.packets;
+        std::vector<Packet16> packets;
+        if (!closest && beams_) reversed_packets(rays, tree_->scene().bounds(), 1, packets);
+        else packets = rays.packets;
         std::vector<PacketHits16> hits(closest ? packets.size() : 0);
         std::vector<std::uint32_t> bits(closest ? 0 : packets.size());
         trace(rays, packets, 1, closest ? hits.data() : nullptr, closest ? nullptr : bits.data(), &c);
@@ -158,6 +169,10 @@ private:
     double tables_seconds_ = 0.0;
     std::unique_ptr<KdTree> tree_;
     std::unique_ptr<Mlrta> mlrta_;
+    // Per-call buffers kept from one call to the next (calls on one engine do not overlap).
+    mutable std::vector<PacketHits16> packet_hits_;
+    mutable std::vector<std::uint32_t> packet_bits_;
+    mutable std::vector<Packet16> reversed_;
 };
 
 }  // namespace

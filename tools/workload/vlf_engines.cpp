@@ -41,11 +41,13 @@ public:
         for_contiguous_parts(rays.packets.size(), threads, [&](std::size_t b, std::size_t e) {
             field_->intersect(std::span(rays.packets).subspan(b, e - b), std::span(out).subspan(b, e - b), mode_, order);
         });
-        for (std::size_t p = 0; p < out.size(); ++p)
-            for (std::uint32_t m = rays.packets[p].active; m; m &= m - 1) {
-                const int i = __builtin_ctz(m);
-                hits[p * 16 + std::size_t(i)] = out[p].hit(i);
-            }
+        for_packet_ranges(out.size(), threads, [&](std::size_t b, std::size_t e) {
+            for (std::size_t p = b; p < e; ++p)
+                for (std::uint32_t m = rays.packets[p].active & 0xFFFFu; m; m &= m - 1) {
+                    const int i = __builtin_ctz(m);
+                    hits[p * 16 + std::size_t(i)] = out[p].hit(i);
+                }
+        });
     }
 
     void occluded(const RaySet& rays, std::vector<std::uint8_t>& occluded, int threads) const override {
@@ -56,8 +58,10 @@ public:
         for_contiguous_parts(rays.packets.size(), threads, [&](std::size_t b, std::size_t e) {
             field_->occluded(std::span(rays.packets).subspan(b, e - b), std::span(bits).subspan(b, e - b), mode_, order);
         });
-        for (std::size_t p = 0; p < bits.size(); ++p)
-            for (std::uint32_t m = bits[p]; m; m &= m - 1) occluded[p * 16 + std::size_t(__builtin_ctz(m))] = 1;
+        for_packet_ranges(bits.size(), threads, [&](std::size_t b, std::size_t e) {
+            for (std::size_t p = b; p < e; ++p)
+                for (std::uint32_t m = bits[p] & 0xFFFFu; m; m &= m - 1) occluded[p * 16 + std::size_t(__builtin_ctz(m))] = 1;
+        });
     }
 
     nlohmann::json stats(const RaySet& rays) const override {
