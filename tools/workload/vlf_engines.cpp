@@ -2,6 +2,7 @@
 // the ray's segment starts, the paper's first description). Rays go through the field as streams of
 // 4x4 packets (SIMD lookups, fetches run ahead, one walk per ray), each thread a contiguous part,
 // in the given order or binned by PSF (--vlf-order).
+#include <algorithm>
 #include <chrono>
 
 #include "beamtrace/error.hpp"
@@ -38,17 +39,24 @@ public:
         std::vector<PacketHits16>& out = packet_hits_;
         out.resize(rays.packets.size());
         const VlfOrder order = order_ == "psf" ? VlfOrder::psf : VlfOrder::input;
+        // Rays in the given order go through the field in runs of kSpreadRun packets, each run's
+        // answers spread into `hits` while they are still in the cache; binned rays (psf) in one
+        // stream per thread, so that its bins are as full as they can be.
+        const std::size_t run = order == VlfOrder::input ? kSpreadRun : rays.packets.size();
         for_contiguous_parts(rays.packets.size(), threads, [&](std::size_t b, std::size_t e) {
-            field_->intersect(std::span(rays.packets).subspan(b, e - b), std::span(out).subspan(b, e - b), mode_, order);
-        });
-        for_packet_ranges(out.size(), threads, [&](std::size_t b, std::size_t e) {
-            for (std::size_t p = b; p < e; ++p)
-                for (std::uint32_t m = rays.packets[p].active & 0xFFFFu; m; m &= m - 1) {
-                    const int i = __builtin_ctz(m);
-                    hits[p * 16 + std::size_t(i)] = out[p].hit(i);
-                }
+            for (std::size_t c = b; c < e; c += run) {
+                const std::size_t ce = std::min(e, c + run);
+                field_->intersect(std::span(rays.packets).subspan(c, ce - c), std::span(out).subspan(c, ce - c), mode_,
+                                  order);
+                for (std::size_t p = c; p < ce; ++p)
+                    for (std::uint32_t m = rays.packets[p].active & 0xFFFFu; m; m &= m - 1) {
+                        const int i = __builtin_ctz(m);
+                        hits[p * 16 + std::size_t(i)] = out[p].hit(i);
+                    }
+            }
         });
     }
+    static constexpr std::size_t kSpreadRun = 1024;  // packets: 256 KB of answers
 
     void occluded(const RaySet& rays, std::vector<std::uint8_t>& occluded, int threads) const override {
         occluded.assign(rays.slots(), 0);
