@@ -10,6 +10,7 @@
 #include <immintrin.h>
 #include <xsimd/xsimd.hpp>
 
+#include "common/lane_bits.hpp"
 #include "vlf/packet_lookup.hpp"
 
 namespace beamtrace::vlf {
@@ -212,9 +213,63 @@ void canonical_rays(const LookupTables& t, const double (*in)[16], const std::in
     if (first) first_tiles<Arch>(t, co, cd, t0, t1, cell, base, out, one_tile, footprint);
 }
 
+// Whether every active ray of `p` misses the field's box, so that the packet needs no lookup
+// (primary rays of a framed mesh: more than half of the packets). In float, each slab widened by
+// 2^-18 of the magnitudes involved (|lower| + |upper| + |origin|): that covers the rounding of the
+// box to float and of every slab parameter many times over, so a ray the exact clip of
+// canonical_rays keeps (in double) is never rejected. A lane with a non-finite origin or
+// direction, or a direction component too small to invert in float, is not rejected by it.
+template <class Arch>
+bool every_ray_misses_box(const LookupTables& t, const Packet16& p) {
+    using BF = xsimd::batch<float, Arch>;
+    using MF = xsimd::batch_bool<float, Arch>;
+    constexpr int W = int(BF::size);
+    const BF zero(0.0f), one(1.0f), inf(HUGE_VALF), rel(1.0f / 262144.0f);
+    const float* org[3] = {p.org_x, p.org_y, p.org_z};
+    const float* dir[3] = {p.dir_x, p.dir_y, p.dir_z};
+    // A ray starting inside the box (occlusion and secondary rays) says no at once; false is always safe.
+    if ((p.active & 0xFFFFu) == 0) return false;
+    const int lead = __builtin_ctz(p.active & 0xFFFFu);
+    bool inside = true;
+    for (int k = 0; k < 3; ++k) inside = inside && org[k][lead] >= t.box.lower[k] && org[k][lead] <= t.box.upper[k];
+    if (inside) return false;
+    for (int base = 0; base < 16; base += W) {
+        const std::uint32_t lanes = (p.active >> base) & ((1u << W) - 1u);
+        if (lanes == 0) continue;
+        BF lo_t = BF::load_aligned(p.tnear + base), hi_t = BF::load_aligned(p.tfar + base);
+        MF keep = ~((lo_t == lo_t) & (hi_t == hi_t));  // NaN parameters: left to the exact path
+        MF outside = MF(false);
+        for (int k = 0; k < 3; ++k) {
+            const BF o = BF::load_aligned(org[k] + base), d = BF::load_aligned(dir[k] + base);
+            const BF lo(float(t.box.lower[k])), hi(float(t.box.upper[k]));
+            const BF pad = ((xsimd::abs(lo) + xsimd::abs(hi)) + xsimd::abs(o)) * rel;
+            const BF a = (lo - pad) - o, b = (hi + pad) - o;  // from the origin to the widened slab
+            const BF inv = one / d;
+            keep = keep | ~(xsimd::abs(o) < inf) | ~(xsimd::abs(d) < inf);
+            const MF flat = d == zero, usable = xsimd::abs(inv) < inf;
+            outside = outside | (flat & ((a > zero) | (b < zero)));
+            const BF ta = a * inv, tb = b * inv;
+            const MF bounded = ~flat & usable;
+            lo_t = xsimd::select(bounded & (ta < tb) & (lo_t < ta), ta, lo_t);
+            lo_t = xsimd::select(bounded & (tb <= ta) & (lo_t < tb), tb, lo_t);
+            hi_t = xsimd::select(bounded & (ta < tb) & (tb < hi_t), tb, hi_t);
+            hi_t = xsimd::select(bounded & (tb <= ta) & (ta < hi_t), ta, hi_t);
+        }
+        const MF miss = ~keep & (outside | (lo_t > hi_t));
+        const std::uint32_t missing = simd::lane_bits<Arch>(miss);
+        if ((missing & lanes) != lanes) return false;
+    }
+    return true;
+}
+
 template <class Arch>
 void lookup_packet_simd(const LookupTables& t, const Packet16& p, PacketLookup& out, bool first_tiles) {
     constexpr int WF = int(xsimd::batch<float, Arch>::size), WD = int(xsimd::batch<double, Arch>::size);
+    if (every_ray_misses_box<Arch>(t, p)) {
+        out.valid = 0;
+        out.one_tile = 0;
+        return;
+    }
     alignas(64) std::int32_t psf[16];
     alignas(64) float dir_ok[16];
     for (int base = 0; base < 16; base += WF) nearest_directions<Arch>(t, p, base, psf, dir_ok, out);

@@ -69,6 +69,101 @@ std::vector<Packet16> awkward_packets(const Box& box, std::mt19937& rng, int cou
     return packets;
 }
 
+// Every packet looked up by the scalar reference and by each SIMD kernel: the same valid lanes and,
+// lane by lane, the same set-up bit for bit. Returns, per instruction set, the valid lanes, the
+// lanes inside their first tile and the packets with no valid lane.
+struct LookupCounts {
+    std::size_t valid = 0, one_tile = 0, empty_packets = 0;
+};
+LookupCounts expect_same_lookups(VisibilityField::Impl& field, const std::vector<Packet16>& packets, Isa isa) {
+    LookupCounts n;
+    for (const Packet16& p : packets) {
+        PacketLookup a, b;
+        field.simd = &vlf_kernels(Isa::scalar);
+        lookup_packet(field, p, a, true);
+        field.simd = &vlf_kernels(isa);
+        lookup_packet(field, p, b, true);
+        EXPECT_EQ(a.valid, b.valid);
+        bool same = a.valid == b.valid;
+        n.empty_packets += a.valid == 0 ? 1 : 0;
+        for (std::uint32_t m = a.valid; m; m &= m - 1) {
+            const int i = __builtin_ctz(m);
+            ++n.valid;
+            EXPECT_EQ(a.psf[i], b.psf[i]);
+            for (auto [x, y] : {std::pair{a.ox[i], b.ox[i]}, {a.oy[i], b.oy[i]}, {a.oz[i], b.oz[i]},
+                                {a.dx[i], b.dx[i]}, {a.dy[i], b.dy[i]}, {a.dz[i], b.dz[i]}, {a.t0[i], b.t0[i]},
+                                {a.t1[i], b.t1[i]}, {a.inv_dx[i], b.inv_dx[i]}, {a.inv_dy[i], b.inv_dy[i]},
+                                {a.inv_dz[i], b.inv_dz[i]}})
+                EXPECT_EQ(bits(x), bits(y)) << "lane " << i;
+            EXPECT_EQ(a.column[i], b.column[i]);
+            EXPECT_EQ(a.row[i], b.row[i]);
+            EXPECT_EQ(a.kx[i], b.kx[i]);
+            EXPECT_EQ(a.ky[i], b.ky[i]);
+            EXPECT_EQ(a.kz[i], b.kz[i]);
+            EXPECT_EQ(bits(a.sx[i]), bits(b.sx[i]));
+            EXPECT_EQ(bits(a.sy[i]), bits(b.sy[i]));
+            EXPECT_EQ(bits(a.sz[i]), bits(b.sz[i]));
+            EXPECT_EQ(bits(a.z0[i]), bits(b.z0[i])) << "lane " << i;
+            EXPECT_EQ(bits(a.z1[i]), bits(b.z1[i])) << "lane " << i;
+            EXPECT_EQ(a.footprint[i], b.footprint[i]) << "lane " << i;
+        }
+        EXPECT_EQ(a.one_tile, b.one_tile);
+        same = same && a.one_tile == b.one_tile;
+        n.one_tile += std::uint32_t(__builtin_popcount(a.one_tile));
+        if (!same) return n;  // one packet's report is enough
+    }
+    return n;
+}
+
+// Coherent packets passing the field's box: lines through points just inside, on and just outside
+// its faces, edges and corners (relative offsets down to 1e-7), tangent to the surface there, from
+// near and from 1e4 box sizes away, some lanes with a zero direction component sliding along a
+// face. The SIMD lookups first test whether every ray misses the box, and must never drop a ray
+// the exact clip keeps.
+std::vector<Packet16> packets_grazing_the_box(const WorldBox& wb, std::mt19937& rng, int count) {
+    std::uniform_real_distribution<float> u(0.0f, 1.0f), s(-1.0f, 1.0f);
+    const float offsets[] = {-1e-3f, -1e-5f, -1e-7f, 0.0f, 1e-7f, 1e-5f, 1e-3f};
+    const float distances[] = {0.5f, 3.0f, 1e4f};
+    const Float3 lo{float(wb.lower[0]), float(wb.lower[1]), float(wb.lower[2])};
+    const Float3 hi{float(wb.upper[0]), float(wb.upper[1]), float(wb.upper[2])};
+    const Float3 size = hi - lo;
+    std::vector<Packet16> packets;
+    for (int p = 0; p < count; ++p) {
+        // A point on the box's surface (a corner, a point of an edge or of a face), its outward
+        // direction, then the point pushed in or out along it.
+        Float3 target, outward{0.0f, 0.0f, 0.0f};
+        for (int k = 0; k < 3; ++k) target[k] = lo[k] + u(rng) * size[k];
+        const int kind = p % 3, axis = int(rng() % 3);
+        for (int k = 0; k < 3; ++k)
+            if (kind == 0 || (kind == 1 && k != axis) || (kind == 2 && k == axis)) {
+                const bool up = rng() & 1;
+                target[k] = up ? hi[k] : lo[k];
+                outward[k] = up ? size[k] : -size[k];
+            }
+        target = target + outward * offsets[std::size_t(p) % std::size(offsets)];
+        // A direction across the outward one: the line touches the surface near the target.
+        const Float3 along = cross(normalize(outward), normalize(Float3{s(rng), s(rng), s(rng)}));
+        const float distance = distances[std::size_t(p / 7) % std::size(distances)] * length(size);
+        Packet16 packet;
+        packet.active = 0xFFFFu;
+        for (int i = 0; i < 16; ++i) {
+            Ray r;
+            r.org = target - along * distance + Float3{s(rng), s(rng), s(rng)} * (1e-7f * distance);
+            r.dir = along;
+            if (i == 3 && kind == 2) {  // sliding along the face: a zero component on its axis
+                r.org = target;
+                r.org[(axis + 1) % 3] -= 2.0f * size[(axis + 1) % 3];
+                r.dir = Float3{1.0f, 1.0f, 1.0f};
+                r.dir[axis] = (p % 2 == 0) ? 0.0f : -0.0f;
+            }
+            if (i == 5) r.tfar = 0.999999f * distance;  // ends just before the target
+            packet.set_ray(i, r);
+        }
+        packets.push_back(packet);
+    }
+    return packets;
+}
+
 }  // namespace
 
 TEST(VlfKernels, PacketLookupEqualsTheSingleRaySetUpBitForBit) {
@@ -81,40 +176,26 @@ TEST(VlfKernels, PacketLookupEqualsTheSingleRaySetUpBitForBit) {
     const std::vector<Packet16> packets = awkward_packets(scene.bounds(), rng, 3000);
     for (Isa isa : simd_isas()) {
         SCOPED_TRACE(isa_name(isa));
-        std::size_t valid = 0, one_tile = 0;
-        for (const Packet16& p : packets) {
-            PacketLookup a, b;
-            field.simd = &vlf_kernels(Isa::scalar);
-            lookup_packet(field, p, a, true);
-            field.simd = &vlf_kernels(isa);
-            lookup_packet(field, p, b, true);
-            ASSERT_EQ(a.valid, b.valid);
-            for (std::uint32_t m = a.valid; m; m &= m - 1) {
-                const int i = __builtin_ctz(m);
-                ++valid;
-                ASSERT_EQ(a.psf[i], b.psf[i]);
-                for (auto [x, y] : {std::pair{a.ox[i], b.ox[i]}, {a.oy[i], b.oy[i]}, {a.oz[i], b.oz[i]},
-                                    {a.dx[i], b.dx[i]}, {a.dy[i], b.dy[i]}, {a.dz[i], b.dz[i]}, {a.t0[i], b.t0[i]},
-                                    {a.t1[i], b.t1[i]}, {a.inv_dx[i], b.inv_dx[i]}, {a.inv_dy[i], b.inv_dy[i]},
-                                    {a.inv_dz[i], b.inv_dz[i]}})
-                    ASSERT_EQ(bits(x), bits(y)) << "lane " << i;
-                ASSERT_EQ(a.column[i], b.column[i]);
-                ASSERT_EQ(a.row[i], b.row[i]);
-                ASSERT_EQ(a.kx[i], b.kx[i]);
-                ASSERT_EQ(a.ky[i], b.ky[i]);
-                ASSERT_EQ(a.kz[i], b.kz[i]);
-                ASSERT_EQ(bits(a.sx[i]), bits(b.sx[i]));
-                ASSERT_EQ(bits(a.sy[i]), bits(b.sy[i]));
-                ASSERT_EQ(bits(a.sz[i]), bits(b.sz[i]));
-                ASSERT_EQ(bits(a.z0[i]), bits(b.z0[i])) << "lane " << i;
-                ASSERT_EQ(bits(a.z1[i]), bits(b.z1[i])) << "lane " << i;
-                ASSERT_EQ(a.footprint[i], b.footprint[i]) << "lane " << i;
-            }
-            ASSERT_EQ(a.one_tile, b.one_tile);
-            one_tile += std::uint32_t(__builtin_popcount(a.one_tile));
-        }
-        EXPECT_GT(valid, 5000u);  // lanes that reach the box (many miss it on purpose)
-        EXPECT_GT(one_tile, 500u);  // segments inside their first tile
+        const LookupCounts n = expect_same_lookups(field, packets, isa);
+        EXPECT_GT(n.valid, 5000u);    // lanes that reach the box (many miss it on purpose)
+        EXPECT_GT(n.one_tile, 500u);  // segments inside their first tile
+    }
+}
+
+TEST(VlfKernels, PacketLookupNeverDropsARayThatGrazesTheBox) {
+    const Scene scene = test::random_soup(300, 94);
+    VlfOptions options;
+    options.directions = 129;
+    options.tiles = 37;
+    VisibilityField::Impl field(scene, options);
+    std::mt19937 rng(95);
+    const std::vector<Packet16> packets = packets_grazing_the_box(field.lookup.tables.box, rng, 6000);
+    for (Isa isa : simd_isas()) {
+        SCOPED_TRACE(isa_name(isa));
+        const LookupCounts n = expect_same_lookups(field, packets, isa);
+        EXPECT_GT(n.valid, 20000u);          // rays that reach the box, many of them barely
+        EXPECT_GT(n.empty_packets, 1000u);   // packets that miss it (the SIMD early exit)
+        EXPECT_LT(n.empty_packets, 5000u);
     }
 }
 
