@@ -28,15 +28,12 @@ namespace {
     const __m512i l = _mm512_set1_epi32(int(lane));
     const std::uint32_t end = first + count, g0 = first / 16, g1 = (end + 15) / 16;
     std::uint32_t n = 0;
-    // Group g: its entries in [first, end).
-    auto group = [&](std::uint32_t g) {
-        const std::uint32_t b = 16 * g;
-        const std::uint32_t lo = first > b ? first - b : 0, hi = end - b < 16 ? end - b : 16;
-        const __mmask16 live = __mmask16(((1u << hi) - 1u) & ~((1u << lo) - 1u));
-        const __m512i f = _mm512_maskz_loadu_epi32(live, footprints + b);
+    // The live entries of the 16 from `at`: passing ids (without repeats unless distinct) appended.
+    auto take = [&](std::uint32_t at, __mmask16 live) {
+        const __m512i f = _mm512_maskz_loadu_epi32(live, footprints + at);
         const __mmask16 pass = _mm512_mask_cmpeq_epi32_mask(live, _mm512_max_epu8(f, r), r);
         if (pass == 0) return;
-        __m512i v = _mm512_maskz_compress_epi32(pass, _mm512_maskz_loadu_epi32(pass, ids + b));
+        __m512i v = _mm512_maskz_compress_epi32(pass, _mm512_maskz_loadu_epi32(pass, ids + at));
         std::uint32_t found = std::uint32_t(__builtin_popcount(pass));
         if (!distinct && found > 1) {
             const __mmask16 valid = __mmask16((1u << found) - 1u);
@@ -50,26 +47,16 @@ namespace {
         n += found;
     };
     if (groups == nullptr || g1 - g0 <= kDirectGroups) {  // short runs: 16 entries at a time from `first`
-        for (std::uint32_t k = first; k < end; k += 16) {
-            const __mmask16 live = end - k >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (end - k)) - 1u);
-            const __m512i f = _mm512_maskz_loadu_epi32(live, footprints + k);
-            const __mmask16 pass = _mm512_mask_cmpeq_epi32_mask(live, _mm512_max_epu8(f, r), r);
-            if (pass == 0) continue;
-            __m512i v = _mm512_maskz_compress_epi32(pass, _mm512_maskz_loadu_epi32(pass, ids + k));
-            std::uint32_t found = std::uint32_t(__builtin_popcount(pass));
-            if (!distinct && found > 1) {
-                const __mmask16 valid = __mmask16((1u << found) - 1u);
-                const __m512i conflicts = _mm512_maskz_conflict_epi32(valid, v);
-                const __mmask16 once = _mm512_mask_testn_epi32_mask(valid, conflicts, conflicts);
-                v = _mm512_maskz_compress_epi32(once, v);
-                found = std::uint32_t(__builtin_popcount(once));
-            }
-            _mm512_storeu_si512(out_ids + n, v);
-            _mm512_storeu_si512(out_lanes + n, l);
-            n += found;
-        }
+        for (std::uint32_t k = first; k < end; k += 16)
+            take(k, end - k >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (end - k)) - 1u));
         return n;
     }
+    // Group g: its entries in [first, end).
+    auto group = [&](std::uint32_t g) {
+        const std::uint32_t b = 16 * g;
+        const std::uint32_t lo = first > b ? first - b : 0, hi = end - b < 16 ? end - b : 16;
+        take(b, __mmask16(((1u << hi) - 1u) & ~((1u << lo) - 1u)));
+    };
     // Longer runs: the groups' union footprints first, 16 at a time.
     for (std::uint32_t h = g0; h < g1; h += 16) {
         const __mmask16 live = g1 - h >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (g1 - h)) - 1u);

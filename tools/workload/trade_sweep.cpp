@@ -43,64 +43,44 @@ std::string mlrta_settings(const MlrtaSettings& m) {
            " stuck-stop=" + (m.stop_when_stuck ? "on" : "off");
 }
 
+// A named variant of the default settings S: change(s) applied to S{}.
+template <class S, class Change>
+void add_variant(std::vector<std::pair<std::string, S>>& v, const char* name, Change&& change) {
+    S s{};
+    change(s);
+    v.emplace_back(name, s);
+}
+
 // The kd-tree variants: the defaults (the three MLRTA rules on), no rules, each rule off alone,
 // and the SAH constants that change the tree's shape.
 std::vector<std::pair<std::string, KdBuildRules>> kd_variants() {
-    const KdBuildRules defaults;
     std::vector<std::pair<std::string, KdBuildRules>> v;
-    v.emplace_back("", defaults);
-    KdBuildRules none = defaults;
-    none.empty_cell_rule = none.flat_cell_rule = none.tiny_cell_rule = false;
-    v.emplace_back(" no rules", none);
-    KdBuildRules r = defaults;
-    r.empty_cell_rule = false;
-    v.emplace_back(" no rule 1", r);
-    r = defaults;
-    r.flat_cell_rule = false;
-    v.emplace_back(" no rule 2", r);
-    r = defaults;
-    r.tiny_cell_rule = false;
-    v.emplace_back(" no rule 3", r);
-    r = defaults;
-    r.empty_cell_min_volume_fraction = 0.3f;
-    v.emplace_back(" empty 0.3", r);
-    r = defaults;
-    r.intersection_cost = 0.75f;
-    v.emplace_back(" Ci 0.75", r);
-    r = defaults;
-    r.intersection_cost = 3.0f;
-    v.emplace_back(" Ci 3", r);
+    using R = KdBuildRules;
+    add_variant(v, "", [](R&) {});
+    add_variant(v, " no rules", [](R& r) { r.empty_cell_rule = r.flat_cell_rule = r.tiny_cell_rule = false; });
+    add_variant(v, " no rule 1", [](R& r) { r.empty_cell_rule = false; });
+    add_variant(v, " no rule 2", [](R& r) { r.flat_cell_rule = false; });
+    add_variant(v, " no rule 3", [](R& r) { r.tiny_cell_rule = false; });
+    add_variant(v, " empty 0.3", [](R& r) { r.empty_cell_min_volume_fraction = 0.3f; });
+    add_variant(v, " Ci 0.75", [](R& r) { r.intersection_cost = 0.75f; });
+    add_variant(v, " Ci 3", [](R& r) { r.intersection_cost = 3.0f; });
     return v;
 }
 
 // MLRTA's beam settings; only the defaults and triangle culling off when the rays form no image
 // (the engine then traces packet by packet and the tile settings do nothing).
 std::vector<std::pair<std::string, MlrtaSettings>> mlrta_variants(bool image) {
-    const MlrtaSettings defaults;
     std::vector<std::pair<std::string, MlrtaSettings>> v;
-    v.emplace_back("", defaults);
-    MlrtaSettings m = defaults;
-    m.triangle_culling = false;
-    v.emplace_back(" no culling", m);
+    using M = MlrtaSettings;
+    add_variant(v, "", [](M&) {});
+    add_variant(v, " no culling", [](M& m) { m.triangle_culling = false; });
     if (!image) return v;
-    m = defaults;
-    m.ep_triangles = false;
-    v.emplace_back(" no EP triangles", m);
-    m = defaults;
-    m.stop_when_stuck = false;
-    v.emplace_back(" paper schedule", m);
-    m = defaults;
-    m.frustum_test = FrustumTest::direct;
-    v.emplace_back(" direct", m);
-    m = defaults;
-    m.initial_tile = 32;
-    v.emplace_back(" tile 32", m);
-    m = defaults;
-    m.split_factor = 4;
-    v.emplace_back(" split 4", m);
-    m = defaults;
-    m.min_tile = 16;
-    v.emplace_back(" min 16", m);
+    add_variant(v, " no EP triangles", [](M& m) { m.ep_triangles = false; });
+    add_variant(v, " paper schedule", [](M& m) { m.stop_when_stuck = false; });
+    add_variant(v, " direct", [](M& m) { m.frustum_test = FrustumTest::direct; });
+    add_variant(v, " tile 32", [](M& m) { m.initial_tile = 32; });
+    add_variant(v, " split 4", [](M& m) { m.split_factor = 4; });
+    add_variant(v, " min 16", [](M& m) { m.min_tile = 16; });
     return v;
 }
 
