@@ -10,7 +10,6 @@
 #include <immintrin.h>
 #include <xsimd/xsimd.hpp>
 
-#include "common/lane_bits.hpp"
 #include "vlf/packet_lookup.hpp"
 
 namespace beamtrace::vlf {
@@ -40,7 +39,7 @@ xsimd::batch<T, Arch> gather(const T* base, const xsimd::batch<I, Arch>& index) 
     }
 }
 
-// Stage 1, float: the nearest direction of rays [base, base + W), and their watertight set-up.
+// Float: the nearest direction of rays [base, base + W), and their watertight set-up.
 template <class Arch>
 void nearest_directions(const LookupTables& t, const Packet16& p, int base, std::int32_t* psf, float* ok,
                         PacketLookup& out) {
@@ -111,8 +110,7 @@ void nearest_directions(const LookupTables& t, const Packet16& p, int base, std:
     xsimd::to_int(kz).store_aligned(out.kz + base);
 }
 
-// Stage 2, double: rays [base, base + W) cut to the box, rotated into their PSF's frame, first tile.
-// Stage 3, double: for rays [base, base + W), what tile_walk.hpp computes for a segment in its first
+// Double, after canonical_rays: for rays [base, base + W), what tile_walk.hpp computes for a segment in its first
 // tile: whether it is (first_tile_exit), the depths of its ends, its footprint (FootprintLattice).
 template <class Arch>
 void first_tiles(const LookupTables& t, const xsimd::batch<double, Arch>* co, const xsimd::batch<double, Arch>* cd,
@@ -154,32 +152,46 @@ void first_tiles(const LookupTables& t, const xsimd::batch<double, Arch>* co, co
     word.store_aligned(footprint + base);
 }
 
+// Double, first of all: rays [base, base + W) cut to the box: their parameter ranges [t0, t1] (in
+// in[6], in[7], replaced) and whether anything of them is left (ok).
 template <class Arch>
-void canonical_rays(const LookupTables& t, const double (*in)[16], const std::int64_t* psf, bool one_psf, int base,
-                    PacketLookup& out, double* ok, double* cell_x, double* cell_y, bool first, double* one_tile,
-                    double* footprint) {
+void clip_to_box(const LookupTables& t, double (*in)[16], int base, double* ok) {
     using BD = xsimd::batch<double, Arch>;
-    using BL = xsimd::batch<std::int64_t, Arch>;
     const BD zero(0.0), inf(HUGE_VAL);
-    BD o[3], d[3];
-    for (int k = 0; k < 3; ++k) {
-        o[k] = BD::load_aligned(in[k] + base);
-        d[k] = BD::load_aligned(in[3 + k] + base);
-    }
     BD t0 = BD::load_aligned(in[6] + base), t1 = BD::load_aligned(in[7] + base);
     auto good = zero == zero;  // all lanes, narrowed below
     for (int k = 0; k < 3; ++k) {
-        good = good & (xsimd::abs(o[k]) < inf);
+        const BD o = BD::load_aligned(in[k] + base), d = BD::load_aligned(in[3 + k] + base);
+        good = good & (xsimd::abs(o) < inf);
         const BD lo(t.box.lower[k]), hi(t.box.upper[k]);
-        const auto flat = d[k] == zero;
-        good = good & (~flat | ((o[k] >= lo) & (o[k] <= hi)));
-        const BD inv = BD(1.0) / xsimd::select(flat, BD(1.0), d[k]);
-        const BD ta = (lo - o[k]) * inv, tb = (hi - o[k]) * inv;
+        const auto flat = d == zero;
+        good = good & (~flat | ((o >= lo) & (o <= hi)));
+        const BD inv = BD(1.0) / xsimd::select(flat, BD(1.0), d);
+        const BD ta = (lo - o) * inv, tb = (hi - o) * inv;
         const BD near = xsimd::select(tb < ta, tb, ta), far = xsimd::select(ta < tb, tb, ta);
         t0 = xsimd::select(flat, t0, xsimd::select(t0 < near, near, t0));
         t1 = xsimd::select(flat, t1, xsimd::select(far < t1, far, t1));
     }
     good = good & (t0 <= t1);
+    t0.store_aligned(in[6] + base);
+    t1.store_aligned(in[7] + base);
+    xsimd::select(good, BD(1.0), zero).store_aligned(ok + base);
+}
+
+// Double, after the nearest directions: the clipped rays [base, base + W) rotated into their PSF's frame, first tile.
+template <class Arch>
+void canonical_rays(const LookupTables& t, const double (*in)[16], const std::int64_t* psf, bool one_psf, int base,
+                    PacketLookup& out, double* cell_x, double* cell_y, bool first, double* one_tile,
+                    double* footprint) {
+    using BD = xsimd::batch<double, Arch>;
+    using BL = xsimd::batch<std::int64_t, Arch>;
+    const BD zero(0.0);
+    BD o[3], d[3];
+    for (int k = 0; k < 3; ++k) {
+        o[k] = BD::load_aligned(in[k] + base);
+        d[k] = BD::load_aligned(in[3 + k] + base);
+    }
+    const BD t0 = BD::load_aligned(in[6] + base), t1 = BD::load_aligned(in[7] + base);
     // Rotation: p' = M (p - centre), d' = M d with M's rows e1, e2, e3 of the lane's PSF.
     BD m[9];
     if (one_psf) {  // coherent packets (primary rays) mostly share one PSF: no gathers
@@ -209,63 +221,25 @@ void canonical_rays(const LookupTables& t, const double (*in)[16], const std::in
         cell[axis] = xsimd::select(f < zero, zero, xsimd::select(f >= BD(double(t.tiles)), last, f));
         cell[axis].store_aligned((axis == 0 ? cell_x : cell_y) + base);
     }
-    xsimd::select(good, BD(1.0), zero).store_aligned(ok + base);
     if (first) first_tiles<Arch>(t, co, cd, t0, t1, cell, base, out, one_tile, footprint);
-}
-
-// Whether every active ray of `p` misses the field's box, so that the packet needs no lookup
-// (primary rays of a framed mesh: more than half of the packets). In float, each slab widened by
-// 2^-18 of the magnitudes involved (|lower| + |upper| + |origin|): that covers the rounding of the
-// box to float and of every slab parameter many times over, so a ray the exact clip of
-// canonical_rays keeps (in double) is never rejected. A lane with a non-finite origin or
-// direction, or a direction component too small to invert in float, is not rejected by it.
-template <class Arch>
-bool every_ray_misses_box(const LookupTables& t, const Packet16& p) {
-    using BF = xsimd::batch<float, Arch>;
-    using MF = xsimd::batch_bool<float, Arch>;
-    constexpr int W = int(BF::size);
-    const BF zero(0.0f), one(1.0f), inf(HUGE_VALF), rel(1.0f / 262144.0f);
-    const float* org[3] = {p.org_x, p.org_y, p.org_z};
-    const float* dir[3] = {p.dir_x, p.dir_y, p.dir_z};
-    // A ray starting inside the box (occlusion and secondary rays) says no at once; false is always safe.
-    if ((p.active & 0xFFFFu) == 0) return false;
-    const int lead = __builtin_ctz(p.active & 0xFFFFu);
-    bool inside = true;
-    for (int k = 0; k < 3; ++k) inside = inside && org[k][lead] >= t.box.lower[k] && org[k][lead] <= t.box.upper[k];
-    if (inside) return false;
-    for (int base = 0; base < 16; base += W) {
-        const std::uint32_t lanes = (p.active >> base) & ((1u << W) - 1u);
-        if (lanes == 0) continue;
-        BF lo_t = BF::load_aligned(p.tnear + base), hi_t = BF::load_aligned(p.tfar + base);
-        MF keep = ~((lo_t == lo_t) & (hi_t == hi_t));  // NaN parameters: left to the exact path
-        MF outside = MF(false);
-        for (int k = 0; k < 3; ++k) {
-            const BF o = BF::load_aligned(org[k] + base), d = BF::load_aligned(dir[k] + base);
-            const BF lo(float(t.box.lower[k])), hi(float(t.box.upper[k]));
-            const BF pad = ((xsimd::abs(lo) + xsimd::abs(hi)) + xsimd::abs(o)) * rel;
-            const BF a = (lo - pad) - o, b = (hi + pad) - o;  // from the origin to the widened slab
-            const BF inv = one / d;
-            keep = keep | ~(xsimd::abs(o) < inf) | ~(xsimd::abs(d) < inf);
-            const MF flat = d == zero, usable = xsimd::abs(inv) < inf;
-            outside = outside | (flat & ((a > zero) | (b < zero)));
-            const BF ta = a * inv, tb = b * inv;
-            const MF bounded = ~flat & usable;
-            lo_t = xsimd::select(bounded & (ta < tb) & (lo_t < ta), ta, lo_t);
-            lo_t = xsimd::select(bounded & (tb <= ta) & (lo_t < tb), tb, lo_t);
-            hi_t = xsimd::select(bounded & (ta < tb) & (tb < hi_t), tb, hi_t);
-            hi_t = xsimd::select(bounded & (tb <= ta) & (ta < hi_t), ta, hi_t);
-        }
-        const MF miss = ~keep & (outside | (lo_t > hi_t));
-        const std::uint32_t missing = simd::lane_bits<Arch>(miss);
-        if ((missing & lanes) != lanes) return false;
-    }
-    return true;
 }
 
 template <class Arch>
 void lookup_packet_simd(const LookupTables& t, const Packet16& p, PacketLookup& out, bool first_tiles) {
     constexpr int WF = int(xsimd::batch<float, Arch>::size), WD = int(xsimd::batch<double, Arch>::size);
-    if (every_ray_misses_box<Arch>(t, p)) {
+    alignas(64) double in[8][16];
+    for (int i = 0; i < 16; ++i) {
+        in[0][i] = p.org_x[i]; in[1][i] = p.org_y[i]; in[2][i] = p.org_z[i];
+        in[3][i] = p.dir_x[i]; in[4][i] = p.dir_y[i]; in[5][i] = p.dir_z[i];
+        in[6][i] = p.tnear[i]; in[7][i] = p.tfar[i];
+    }
+    // The box first: a packet none of whose rays reaches it needs no direction (primary rays of a
+    // mesh framed from outside: more than half of the packets).
+    alignas(64) double ray_ok[16];
+    for (int base = 0; base < 16; base += WD) clip_to_box<Arch>(t, in, base, ray_ok);
+    std::uint32_t clipped = 0;
+    for (int i = 0; i < 16; ++i) clipped |= std::uint32_t(ray_ok[i] != 0.0) << i;
+    if ((clipped & p.active) == 0) {
         out.valid = 0;
         out.one_tile = 0;
         return;
@@ -273,19 +247,15 @@ void lookup_packet_simd(const LookupTables& t, const Packet16& p, PacketLookup& 
     alignas(64) std::int32_t psf[16];
     alignas(64) float dir_ok[16];
     for (int base = 0; base < 16; base += WF) nearest_directions<Arch>(t, p, base, psf, dir_ok, out);
-    alignas(64) double in[8][16];
     alignas(64) std::int64_t psf64[16];
     bool one_psf = true;
     for (int i = 0; i < 16; ++i) {
-        in[0][i] = p.org_x[i]; in[1][i] = p.org_y[i]; in[2][i] = p.org_z[i];
-        in[3][i] = p.dir_x[i]; in[4][i] = p.dir_y[i]; in[5][i] = p.dir_z[i];
-        in[6][i] = p.tnear[i]; in[7][i] = p.tfar[i];
         psf64[i] = psf[i];
         one_psf &= psf[i] == psf[0];
     }
-    alignas(64) double ray_ok[16], cell_x[16], cell_y[16], one_tile[16], footprint[16];
+    alignas(64) double cell_x[16], cell_y[16], one_tile[16], footprint[16];
     for (int base = 0; base < 16; base += WD)
-        canonical_rays<Arch>(t, in, psf64, one_psf, base, out, ray_ok, cell_x, cell_y, first_tiles, one_tile, footprint);
+        canonical_rays<Arch>(t, in, psf64, one_psf, base, out, cell_x, cell_y, first_tiles, one_tile, footprint);
     std::uint32_t valid = 0, in_tile = 0;
     for (int i = 0; i < 16; ++i) {
         out.psf[i] = std::uint32_t(psf[i]);

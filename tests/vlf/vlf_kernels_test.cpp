@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include "../kdtree/test_scenes.hpp"
@@ -118,8 +119,8 @@ LookupCounts expect_same_lookups(VisibilityField::Impl& field, const std::vector
 // Coherent packets passing the field's box: lines through points just inside, on and just outside
 // its faces, edges and corners (relative offsets down to 1e-7), tangent to the surface there, from
 // near and from 1e4 box sizes away, some lanes with a zero direction component sliding along a
-// face. The SIMD lookups first test whether every ray misses the box, and must never drop a ray
-// the exact clip keeps.
+// face. The SIMD lookups clip to the box before anything else and stop when no ray is left; every
+// lane must still come out as the single-ray set-up has it.
 std::vector<Packet16> packets_grazing_the_box(const WorldBox& wb, std::mt19937& rng, int count) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f), s(-1.0f, 1.0f);
     const float offsets[] = {-1e-3f, -1e-5f, -1e-7f, 0.0f, 1e-7f, 1e-5f, 1e-3f};
@@ -164,19 +165,24 @@ std::vector<Packet16> packets_grazing_the_box(const WorldBox& wb, std::mt19937& 
     return packets;
 }
 
+// The field the lookup tests use: 129 directions, 37 tiles a side.
+std::unique_ptr<VisibilityField::Impl> lookup_field(const Scene& scene) {
+    VlfOptions options;
+    options.directions = 129;
+    options.tiles = 37;
+    return std::make_unique<VisibilityField::Impl>(scene, options);
+}
+
 }  // namespace
 
 TEST(VlfKernels, PacketLookupEqualsTheSingleRaySetUpBitForBit) {
     const Scene scene = test::random_soup(300, 91);
-    VlfOptions options;
-    options.directions = 129;
-    options.tiles = 37;
-    VisibilityField::Impl field(scene, options);
+    const std::unique_ptr<VisibilityField::Impl> field = lookup_field(scene);
     std::mt19937 rng(92);
     const std::vector<Packet16> packets = awkward_packets(scene.bounds(), rng, 3000);
     for (Isa isa : simd_isas()) {
         SCOPED_TRACE(isa_name(isa));
-        const LookupCounts n = expect_same_lookups(field, packets, isa);
+        const LookupCounts n = expect_same_lookups(*field, packets, isa);
         EXPECT_GT(n.valid, 5000u);    // lanes that reach the box (many miss it on purpose)
         EXPECT_GT(n.one_tile, 500u);  // segments inside their first tile
     }
@@ -184,15 +190,12 @@ TEST(VlfKernels, PacketLookupEqualsTheSingleRaySetUpBitForBit) {
 
 TEST(VlfKernels, PacketLookupNeverDropsARayThatGrazesTheBox) {
     const Scene scene = test::random_soup(300, 94);
-    VlfOptions options;
-    options.directions = 129;
-    options.tiles = 37;
-    VisibilityField::Impl field(scene, options);
+    const std::unique_ptr<VisibilityField::Impl> field = lookup_field(scene);
     std::mt19937 rng(95);
-    const std::vector<Packet16> packets = packets_grazing_the_box(field.lookup.tables.box, rng, 6000);
+    const std::vector<Packet16> packets = packets_grazing_the_box(field->lookup.tables.box, rng, 6000);
     for (Isa isa : simd_isas()) {
         SCOPED_TRACE(isa_name(isa));
-        const LookupCounts n = expect_same_lookups(field, packets, isa);
+        const LookupCounts n = expect_same_lookups(*field, packets, isa);
         EXPECT_GT(n.valid, 20000u);          // rays that reach the box, many of them barely
         EXPECT_GT(n.empty_packets, 1000u);   // packets that miss it (the SIMD early exit)
         EXPECT_LT(n.empty_packets, 5000u);
