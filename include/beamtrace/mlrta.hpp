@@ -37,6 +37,10 @@ struct MlrtaSettings {
     // Stop splitting a tile whose entry point is the same as its parent's (not in the paper, which
     // splits down to the minimum size unless the entry point is a leaf).
     bool stop_when_stuck = true;
+    // With stop_when_stuck: a tile whose entry point is its parent's is still split once, unless it
+    // is itself a part of such a tile or its parts would be single packets (not in the paper). On
+    // by default: the parts of a stuck tile often find deeper entry points (docs/mlrta.md).
+    bool retry_stuck = true;
     // In leaves, skip triangles outside the frustum of a packet whose rays share one origin (camera
     // and shadow packets), decided 16 triangles at a time with SIMD before the 16-ray tests. Packets
     // with several origins are not culled per triangle. On by default (docs/mlrta.md has numbers).
@@ -47,6 +51,11 @@ struct MlrtaSettings {
     // (4) of the paper, first case). On by default; off leaves only the leaf-box test (2) and
     // completely covered flat leaves.
     bool ep_triangles = true;
+    // A sub-tile's entry-point search starts where its parent's search found its first potential
+    // leaf (every leaf before it is empty for the parent's beam, so for the sub-tile's), deciding
+    // again only the bifurcations on that leaf's path (not in the paper). On by default; off, every
+    // search walks depth first from the parent's entry point, as in the paper.
+    bool ep_resume = true;
     // Throws beamtrace::Error naming the bad setting.
     void validate() const;
 };

@@ -10,18 +10,7 @@ namespace beamtrace::mlrta {
 
 namespace {
 
-constexpr int kStackSize = 64;
-
-struct NodeBox {
-    std::uint32_t node;
-    Box box;
-};
-
-// The bifurcation stack: nodes whose both children the beam may enter, with the child not yet searched.
-struct Bifurcation {
-    NodeBox node;
-    NodeBox other;
-};
+constexpr int kStackSize = SearchTrail::kCapacity;
 
 class Search {
 public:
@@ -99,17 +88,33 @@ public:
 
     std::uint32_t blocker() const { return blocker_; }
 
-    // Depth first (near child first) below `root`: the first leaf with potential intersections, if any.
-    bool first_potential_leaf(const NodeBox& root, NodeBox& leaf) {
-        NodeBox stack[kStackSize];
+    // Depth first (near child first) below `root`: the first leaf with potential intersections, if
+    // any. `resume`: the trail of a search for a beam holding this one, whose walk below the same
+    // `root` found its `second` leaf with `rest` still to visit: every leaf before that one holds
+    // nothing for this beam either, so the walk starts there. `out` receives this walk's leaf and rest.
+    bool first_potential_leaf(const NodeBox& root, NodeBox& leaf, const SearchTrail* resume = nullptr,
+                              SearchTrail* out = nullptr) {
+        Uninitialised<NodeBox, kStackSize> pending;
+        NodeBox* stack = pending.at;
         int top = 0;
-        stack[top++] = root;
+        if (resume) {
+            for (; top < resume->pending; ++top) stack[top] = resume->rest.at[top];
+            stack[top++] = resume->second;
+        } else {
+            stack[top++] = root;
+        }
         while (top > 0) {
             const NodeBox n = stack[--top];
             ++steps_;
             if (kd_.nodes[n.node].is_leaf()) {
                 if (potential_leaf(n)) {
                     leaf = n;
+                    if (out) {
+                        out->second_valid = true;
+                        out->second = n;
+                        out->pending = top;
+                        for (int i = 0; i < top; ++i) out->rest.at[i] = stack[i];
+                    }
                     return true;
                 }
                 continue;
@@ -121,11 +126,9 @@ public:
         return false;
     }
 
-    // Step 1 of the paper: depth first from `start` until the first leaf with potential
-    // intersections, stacking the bifurcations (nodes whose both children the beam may enter, with
-    // the child not yet searched) on the way. False if there is no such leaf at all.
-    bool first_candidate(const EntryPoint& start, Bifurcation* bif, int& top, NodeBox& leaf) {
-        NodeBox n{start.node, start.box};
+    // Depth first from `n` (near child first) until the first leaf with potential intersections,
+    // stacking the bifurcations on the way above those already on `bif`. False if there is none.
+    bool descend(NodeBox n, Bifurcation* bif, int& top, NodeBox& leaf) {
         for (;;) {
             ++steps_;
             if (kd_.nodes[n.node].is_leaf()) {
@@ -148,23 +151,59 @@ public:
         }
     }
 
+    // Step 1 of the paper: depth first from `start` until the first leaf with potential
+    // intersections, stacking the bifurcations (nodes whose both children the beam may enter, with
+    // the child not yet searched) on the way. False if there is no such leaf at all.
+    //
+    // With the trail of the search for a beam holding this one (which started at `start`'s node),
+    // the walk starts at that search's first potential leaf: every leaf before it holds nothing for
+    // the larger beam, so nothing for this one, and the depth-first order is the same (one sign per
+    // axis). Only the trail's bifurcations are decided again for this beam (one step each); where
+    // this beam leaves the trail's path, the walk goes on from there as it would have.
+    bool first_candidate(const EntryPoint& start, const SearchTrail* trail, Bifurcation* bif, int& top,
+                         NodeBox& leaf) {
+        top = 0;
+        if (!trail) return descend(NodeBox{start.node, start.box}, bif, top, leaf);
+        for (int i = 0; i < trail->count; ++i) {
+            const Bifurcation& b = trail->bif.at[i];
+            ++steps_;
+            NodeBox kids[2];
+            const int c = children(b.node, kids);
+            if (c == 2) {
+                bif[top++] = Bifurcation{b.node, kids[1]};
+                continue;
+            }
+            if (c == 1 && kids[0].node != b.other.node) continue;  // only the child on the path
+            if (c == 1) return descend(kids[0], bif, top, leaf);   // only the other child
+            if (top == 0) return false;                            // neither
+            const NodeBox next = bif[--top].other;
+            return descend(next, bif, top, leaf);
+        }
+        return descend(trail->first, bif, top, leaf);
+    }
+
     // Steps 1-3 of the paper with the bifurcation stack, in the paper's order.
-    EntryPoint run_bifurcation_stack(const EntryPoint& start) {
-        Bifurcation bif[kStackSize];
+    EntryPoint run_bifurcation_stack(const EntryPoint& start, const SearchTrail* trail, SearchTrail* out) {
+        Bifurcation* bif = work_.at;
         int top = 0;
         NodeBox candidate;
-        if (!first_candidate(start, bif, top, candidate)) return none(start);
+        if (!first_candidate(start, trail, bif, top, candidate)) return none(start);
+        const NodeBox first = candidate;
+        const int path = top;
+        int from = path;  // the candidate's place on the stack (path: the first leaf itself)
         if (examine(candidate)) return entry(candidate);
         // Steps 2-3: the stacked nodes from the top; a potential leaf in the other subtree makes the
         // node the candidate.
         while (top > 0) {
             const Bifurcation& b = bif[--top];
             NodeBox leaf;
-            if (first_potential_leaf(b.other, leaf)) {
+            if (first_potential_leaf(b.other, leaf, resumable(trail, b), out)) {
                 candidate = b.node;
+                from = top;
                 if (!blocked()) examine(leaf);
             }
         }
+        record(out, first, bif + from, path - from);
         return entry(candidate);
     }
 
@@ -176,16 +215,17 @@ public:
     // whose other subtree holds a potential leaf: the deeper ones need no search. Termination (4)
     // is checked at L; a blocker found at L shortens the beam, so the other subtrees beyond it are
     // culled at their roots.
-    EntryPoint run_top_down(const EntryPoint& start) {
-        Bifurcation bif[kStackSize];
+    EntryPoint run_top_down(const EntryPoint& start, const SearchTrail* trail, SearchTrail* out) {
+        Bifurcation* bif = work_.at;
         int top = 0;
         NodeBox first;
-        if (!first_candidate(start, bif, top, first)) return none(start);
+        if (!first_candidate(start, trail, bif, top, first)) return none(start);
         if (examine(first)) return entry(first);
         for (int i = 0; i < top; ++i) {  // the bifurcations on L's path, shallowest first
             NodeBox leaf;
-            if (first_potential_leaf(bif[i].other, leaf)) {
+            if (first_potential_leaf(bif[i].other, leaf, resumable(trail, bif[i]), out)) {
                 if (!blocked()) examine(leaf);
+                record(out, first, bif + i, top - i);
                 return entry(bif[i].node);
             }
         }
@@ -194,6 +234,23 @@ public:
 
 private:
     bool blocked() const { return blocker_ != kNoHit; }
+
+    // The trail for searches of parts of this beam: the first potential leaf and the bifurcations
+    // on its path from the entry point (bif[0]) down.
+    void record(SearchTrail* out, const NodeBox& first, const Bifurcation* bif, int count) const {
+        if (!out) return;
+        out->valid = true;
+        for (int k = 0; k < 3; ++k) out->sign[k] = beam_.sign[k];
+        out->first = first;
+        out->count = count;
+        for (int i = 0; i < count; ++i) out->bif.at[i] = bif[i];
+    }
+
+    // The trail, if its walk of the other subtree of its entry point is that of bifurcation `b`.
+    static const SearchTrail* resumable(const SearchTrail* trail, const Bifurcation& b) {
+        if (!trail || !trail->second_valid || trail->count == 0) return nullptr;
+        return trail->bif.at[0].other.node == b.other.node ? trail : nullptr;
+    }
 
     EntryPoint entry(const NodeBox& n) const {
         EntryPoint e{n.node, n.box, false};
@@ -249,15 +306,19 @@ private:
     double blocker_far_ = 0.0;
     // Leaves with more triangles are not searched for one that blocks the beam (a cost bound).
     static constexpr std::uint32_t kMaxBlockingCandidates = 16;
+    Uninitialised<Bifurcation, kStackSize> work_;  // the bifurcation stack
 };
 
 }  // namespace
 
-EntryPoint entry_point_search(const Mlrta::Impl& m, const Beam& beam, const EntryPoint& start, std::uint64_t& steps) {
+EntryPoint entry_point_search(const Mlrta::Impl& m, const Beam& beam, const EntryPoint& start, std::uint64_t& steps,
+                              const SearchTrail* trail, SearchTrail* out) {
+    if (out) out->valid = out->second_valid = false;
+    if (trail && !trail->valid) trail = nullptr;
     Search search(m, beam, steps);
     search.inherit(start);
-    return m.settings.ep_search == EpSearch::bifurcation_stack ? search.run_bifurcation_stack(start)
-                                                               : search.run_top_down(start);
+    return m.settings.ep_search == EpSearch::bifurcation_stack ? search.run_bifurcation_stack(start, trail, out)
+                                                               : search.run_top_down(start, trail, out);
 }
 
 }  // namespace beamtrace::mlrta

@@ -17,6 +17,11 @@ namespace beamtrace::mlrta {
 // within its segment (all rays end there). A beam with no potential leaf at all gets `misses`.
 // `steps` counts the nodes visited. settings.ep_search chooses the paper's order (bifurcation
 // stack) or the top-down walk that returns the same node with fewer steps.
-EntryPoint entry_point_search(const Mlrta::Impl& m, const Beam& beam, const EntryPoint& start, std::uint64_t& steps);
+//
+// `trail`, if given, is the trail of a search from `start` for a beam that holds this one (the
+// parent tile's): the walk then starts at that search's first potential leaf. `out`, if given,
+// receives this search's trail, for searches of parts of this beam from the returned entry point.
+EntryPoint entry_point_search(const Mlrta::Impl& m, const Beam& beam, const EntryPoint& start, std::uint64_t& steps,
+                              const SearchTrail* trail = nullptr, SearchTrail* out = nullptr);
 
 }  // namespace beamtrace::mlrta

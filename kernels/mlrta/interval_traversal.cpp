@@ -79,7 +79,8 @@ namespace {
 // occlusion, bits are or-ed into *occluded.
 template <bool kOcclusion, bool kCount>
 void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint32_t mask, const EntryPoint& ep,
-                        const float* speed, PacketHits16* hits, std::uint32_t* occluded, MlrtaCounters* counters) {
+                        const SearchTrail* trail, const float* speed, PacketHits16* hits, std::uint32_t* occluded,
+                        MlrtaCounters* counters) {
     const KdTree::Impl& kd = m.kd();
     PacketBounds pb;
     pb.pad = scene_pad(kd.bounds);
@@ -129,6 +130,34 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
     StackEntry stack[kStackSize];
     int top = 0;
     std::uint32_t index = ep.node;
+    if (trail && trail->valid && trail->sign[0] == pb.sign[0] && trail->sign[1] == pb.sign[1] &&
+        trail->sign[2] == pb.sign[2]) {
+        // Start at the entry-point search's first potential leaf: the cells before it in this
+        // depth-first order hold nothing for the beam. What is left after it is the other child of
+        // each bifurcation on its path, deepest on top, each with the packet's interval over its
+        // box (the faces of a cell are the entry point's and the splits on its path, so this is the
+        // interval the walk would have reached it with, or tighter, and as conservative). A child
+        // whose interval is empty holds no ray of the packet.
+        const float e0 = c0, e1 = c1;
+        auto interval = [&](const Box& b, float& a0, float& a1) {
+            a0 = e0;
+            a1 = e1;
+            for (int k = 0; k < 3; ++k) {
+                const bool up = pb.sign[k] > 0;
+                a0 = std::max(a0, pb.plane_t(k, up ? b.lower[k] : b.upper[k]).lo);
+                a1 = std::min(a1, pb.plane_t(k, up ? b.upper[k] : b.lower[k]).hi);
+            }
+        };
+        for (int i = 0; i < trail->count; ++i) {
+            if constexpr (kCount) ++counters->xp_steps;
+            const NodeBox& other = trail->bif.at[i].other;
+            float a0, a1;
+            interval(other.box, a0, a1);
+            if (a0 <= a1) stack[top++] = StackEntry{other.node, a0, a1};
+        }
+        index = trail->first.node;
+        interval(trail->first.box, c0, c1);
+    }
     for (;;) {
         const KdNode& node = nodes[index];
         if constexpr (kCount) ++counters->xp_steps;
@@ -246,7 +275,7 @@ void trace_single(const Mlrta::Impl& m, const Packet16& packet, int i, PacketHit
 
 template <bool kOcclusion, bool kCount>
 void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint& ep, PacketHits16* hits,
-                  std::uint32_t* occluded, MlrtaCounters* counters) {
+                  std::uint32_t* occluded, MlrtaCounters* counters, const SearchTrail* trail) {
     if constexpr (!kOcclusion) {
         for (int i = 0; i < 16; ++i) hits->set_hit(i, Hit{});
     } else {
@@ -278,7 +307,7 @@ void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint
             together = !(origins.diagonal() > far_apart) && well_conditioned(lanes_of, lanes);
         }
         if (together) {
-            interval_traversal<kOcclusion, kCount>(m, packet, lanes, ep, lanes_of.speed, hits, occluded, counters);
+            interval_traversal<kOcclusion, kCount>(m, packet, lanes, ep, trail, lanes_of.speed, hits, occluded, counters);
             continue;
         }
         for (std::uint32_t b = lanes; b; b &= b - 1)
@@ -287,12 +316,12 @@ void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint
 }
 
 template void trace_packet<false, false>(const Mlrta::Impl&, const Packet16&, const EntryPoint&, PacketHits16*,
-                                         std::uint32_t*, MlrtaCounters*);
+                                         std::uint32_t*, MlrtaCounters*, const SearchTrail*);
 template void trace_packet<false, true>(const Mlrta::Impl&, const Packet16&, const EntryPoint&, PacketHits16*,
-                                        std::uint32_t*, MlrtaCounters*);
+                                        std::uint32_t*, MlrtaCounters*, const SearchTrail*);
 template void trace_packet<true, false>(const Mlrta::Impl&, const Packet16&, const EntryPoint&, PacketHits16*,
-                                        std::uint32_t*, MlrtaCounters*);
+                                        std::uint32_t*, MlrtaCounters*, const SearchTrail*);
 template void trace_packet<true, true>(const Mlrta::Impl&, const Packet16&, const EntryPoint&, PacketHits16*,
-                                       std::uint32_t*, MlrtaCounters*);
+                                       std::uint32_t*, MlrtaCounters*, const SearchTrail*);
 
 }  // namespace beamtrace::mlrta

@@ -15,9 +15,14 @@ namespace beamtrace::mlrta {
 // interval traversal; lanes with a zero direction component, groups of one or two rays, groups
 // whose origins lie more than 1% of the scene diagonal apart and groups whose directions spread
 // more than about 3 degrees go to the single-ray kd-tree traversal.
+//
+// `trail`, if given, is that of the entry-point search that found `ep` for a beam holding the
+// packet's rays: a group of the beam's signs then starts at the search's first potential leaf, with
+// the other children of the bifurcations on its path on the stack (every leaf before it in the
+// depth-first order holds nothing the packet can hit).
 template <bool kOcclusion, bool kCount>
 void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint& ep, PacketHits16* hits,
-                  std::uint32_t* occluded, MlrtaCounters* counters);
+                  std::uint32_t* occluded, MlrtaCounters* counters, const SearchTrail* trail = nullptr);
 
 // The root of the tree as an entry point.
 EntryPoint root_entry(const Mlrta::Impl& m);

@@ -37,11 +37,12 @@ void TileSplitter<kOcclusion, kCount>::trace_initial_tile(int x0, int y0) {
             b.pad = pad_;
             b.add(grid_.packets[std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x)]);
         }
-    trace_tile(x0, y0, x1, y1, root_entry(m_));
+    trace_tile(x0, y0, x1, y1, root_entry(m_), nullptr, false);
 }
 
 template <bool kOcclusion, bool kCount>
-void TileSplitter<kOcclusion, kCount>::trace_tile(int x0, int y0, int x1, int y1, const EntryPoint& ep) {
+void TileSplitter<kOcclusion, kCount>::trace_tile(int x0, int y0, int x1, int y1, const EntryPoint& ep,
+                                                  const SearchTrail* trail, bool parent_stuck) {
     Beam beam;
     beam.pad = pad_;
     for (int y = y0; y < y1; ++y)
@@ -52,7 +53,10 @@ void TileSplitter<kOcclusion, kCount>::trace_tile(int x0, int y0, int x1, int y1
     }
     const int min_side = std::max(1, m_.settings.min_tile / 4);
     const bool small = (x1 - x0) <= min_side && (y1 - y0) <= min_side;
+    const int parts = m_.settings.split_factor == 4 ? 2 : 4;  // per side
     EntryPoint found = ep;
+    SearchTrail found_trail;  // stays invalid for diverging tiles: their parts search without one
+    bool stuck = false;       // the search found the parent's entry point again
     if (!beam.coherent) {
         // Diverging rays: no entry-point search. At the minimum size the packets go to XP search
         // (in coherent sub-groups); larger tiles are split first, as their parts may be coherent.
@@ -63,30 +67,35 @@ void TileSplitter<kOcclusion, kCount>::trace_tile(int x0, int y0, int x1, int y1
         if constexpr (kCount) ++counters_->divergent_tiles;
     } else {
         std::uint64_t steps = 0;
-        found = entry_point_search(m_, beam, ep, steps);
+        const bool resume = m_.settings.ep_resume;
+        found = entry_point_search(m_, beam, ep, steps, resume ? trail : nullptr, resume ? &found_trail : nullptr);
         if constexpr (kCount) counters_->ep_steps += steps;
         // Stop splitting at a leaf (the paper's rule), at the minimum size, or when the search made
         // no progress: a tile whose entry point is its parent's rarely has parts that do better,
-        // and their searches would cost more than they save.
-        const bool stuck = found.node == ep.node && m_.settings.stop_when_stuck;
+        // and their searches would cost more than they save. With retry_stuck such a tile is split
+        // once more (its parts often do find deeper entry points), unless it already is the part of
+        // a stuck tile or its parts would be single packets.
+        stuck = found.node == ep.node;
+        const bool single_parts = (x1 - x0) <= parts && (y1 - y0) <= parts;
+        const bool stop = stuck && m_.settings.stop_when_stuck &&
+                          (!m_.settings.retry_stuck || parent_stuck || single_parts);
         if constexpr (kOcclusion) {
             if (found.blocked()) {  // one triangle occludes every ray of the tile
                 occlude_all(x0, y0, x1, y1);
                 return;
             }
         }
-        if (found.misses || small || stuck || m_.kd().nodes[found.node].is_leaf()) {
-            trace_packets(x0, y0, x1, y1, found, false);
+        if (found.misses || small || stop || m_.kd().nodes[found.node].is_leaf()) {
+            trace_packets(x0, y0, x1, y1, found, false, &found_trail);
             return;
         }
     }
-    const int parts = m_.settings.split_factor == 4 ? 2 : 4;
     const int w = x1 - x0, h = y1 - y0;
     for (int j = 0; j < parts; ++j)
         for (int i = 0; i < parts; ++i) {
             const int sx0 = x0 + w * i / parts, sx1 = x0 + w * (i + 1) / parts;
             const int sy0 = y0 + h * j / parts, sy1 = y0 + h * (j + 1) / parts;
-            if (sx1 > sx0 && sy1 > sy0) trace_tile(sx0, sy0, sx1, sy1, found);
+            if (sx1 > sx0 && sy1 > sy0) trace_tile(sx0, sy0, sx1, sy1, found, &found_trail, stuck);
         }
 }
 
@@ -107,7 +116,7 @@ void TileSplitter<kOcclusion, kCount>::occlude_all(int x0, int y0, int x1, int y
 
 template <bool kOcclusion, bool kCount>
 void TileSplitter<kOcclusion, kCount>::trace_packets(int x0, int y0, int x1, int y1, const EntryPoint& ep,
-                                                     bool divergent) {
+                                                     bool divergent, const SearchTrail* trail) {
     if constexpr (kCount) {
         ++counters_->tiles;
         if (divergent) ++counters_->divergent_tiles;
@@ -120,7 +129,7 @@ void TileSplitter<kOcclusion, kCount>::trace_packets(int x0, int y0, int x1, int
         for (int x = x0; x < x1; ++x) {
             const std::size_t p = std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x);
             trace_packet<kOcclusion, kCount>(m_, grid_.packets[p], ep, kOcclusion ? nullptr : hits_ + p,
-                                             kOcclusion ? occluded_ + p : nullptr, counters_);
+                                             kOcclusion ? occluded_ + p : nullptr, counters_, trail);
         }
 }
 

@@ -25,8 +25,12 @@ public:
     void trace_initial_tile(int x0, int y0);
 
 private:
-    void trace_tile(int x0, int y0, int x1, int y1, const EntryPoint& ep);
-    void trace_packets(int x0, int y0, int x1, int y1, const EntryPoint& ep, bool divergent);
+    // `trail`: of the search that found `ep` for a beam holding this tile's (null if none);
+    // `parent_stuck`: that search found its own parent's entry point again.
+    void trace_tile(int x0, int y0, int x1, int y1, const EntryPoint& ep, const SearchTrail* trail, bool parent_stuck);
+    // `trail`: of the search that found `ep` for this tile's beam (null if none).
+    void trace_packets(int x0, int y0, int x1, int y1, const EntryPoint& ep, bool divergent,
+                       const SearchTrail* trail = nullptr);
     // Occlusion: a triangle blocks every ray of the tile (the entry-point search proved it).
     void occlude_all(int x0, int y0, int x1, int y1);
     const Beam& packet_beam(int x, int y) const;

@@ -55,6 +55,8 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--mlrta-frustum", args->mlrta_frustum, "mlrta: entry-point culling, inverse | direct")->capture_default_str();
     cmd->add_option("--mlrta-ep-search", args->mlrta_ep_search, "mlrta: entry-point search order, top-down | bifurcation-stack (the same entry points with --no-mlrta-ep-triangles)")->capture_default_str();
     cmd->add_flag("--mlrta-ep-triangles,!--no-mlrta-ep-triangles", args->mlrta.ep_triangles, "mlrta: entry-point searches of one-origin beams cull leaves by their triangles and stop at a triangle that blocks the whole beam (default on)");
+    cmd->add_flag("--mlrta-stuck-retry,!--no-mlrta-stuck-retry", args->mlrta.retry_stuck, "mlrta: with the stuck rule, a stuck tile is still split once unless it is the part of a stuck tile or its parts would be single packets (default on)");
+    cmd->add_flag("--mlrta-ep-resume,!--no-mlrta-ep-resume", args->mlrta.ep_resume, "mlrta: a sub-tile's entry-point search starts at the first potential leaf its parent's search found (default on; off: from the parent's entry point, as in the paper)");
     cmd->add_flag("--mlrta-stuck-stop,!--no-mlrta-stuck-stop", args->mlrta.stop_when_stuck, "mlrta: stop splitting a tile whose entry point is its parent's (default on; off: the paper's schedule, split down to the minimum tile size)");
     cmd->add_flag("--triangle-culling,!--no-triangle-culling", args->mlrta.triangle_culling, "kd16/mlrta: cull leaf triangles outside a one-origin packet's frustum before testing them (default on; --no-triangle-culling turns it off)");
     cmd->add_option("--vlf-dirs", args->vlf.directions, "vlf: beam directions l (2 m^2 + 1: 33, 129, 513, ...)")->capture_default_str();
