@@ -212,3 +212,141 @@ TEST(MlrtaEntryPointProperty, BothOrdersFindTheSameEntryPoint) {
         }
     }
 }
+
+namespace {
+
+// A beam of rays added one by one: the beam of some of them lies inside the beam of all.
+Beam beam_of_rays(const std::vector<Ray>& rays, std::size_t count, const Box& bounds) {
+    Beam b;
+    b.set_scene_scale(bounds);
+    for (std::size_t i = 0; i < std::min(count, rays.size()); ++i) b.add(rays[i]);
+    return b;
+}
+
+}  // namespace
+
+TEST(MlrtaEntryPointProperty, APartResumedFromItsWholesTrailFindsAValidEntryPoint) {
+    // A sub-tile searches from its parent's entry point; with the parent's trail it starts at the
+    // parent's first potential leaf, two levels down (a part of a part resumes from the part's
+    // trail). The walk skips only leaves that hold nothing for the parent's beam, so the entry point
+    // is valid: with the paper's tests every leaf a ray of the part passes lies below it, with
+    // triangles (and in the room, whose flat covered leaves end rays) every closest hit does. It is
+    // not always the plain search's node (the plain walk decides the skipped nodes with the part's
+    // own bounds, which the direct test does not nest inside the whole's), but nearly always.
+    for (const bool room : {false, true}) {
+        const Scene scene = room ? box_room(30, 82) : random_soup(3000, 81);
+        const KdTree tree = KdTree::build(scene);
+        const Box& bounds = tree.impl().bounds;
+        const std::vector<Leaf> leaves = nonempty_leaves(tree.impl());
+        for (bool triangles : {false, true})
+            for (FrustumTest test : {FrustumTest::inverse, FrustumTest::direct})
+                for (EpSearch order : {EpSearch::bifurcation_stack, EpSearch::top_down}) {
+                    const auto m = make_mlrta(tree, settings(order, test, triangles));
+                    const std::string where = "triangles " + std::to_string(triangles) + " direct " +
+                                              std::to_string(test == FrustumTest::direct) + " order " +
+                                              std::to_string(int(order));
+                    Rng rng(83);
+                    int resumed = 0, same = 0;
+                    for (int n = 0; n < 600; ++n) {
+                        const std::vector<Ray> rays = random_beam_rays(rng, bounds);
+                        SearchTrail trails[2];
+                        std::uint64_t steps = 0;
+                        EntryPoint start = entry_point_search(*m, beam_of_rays(rays, rays.size(), bounds),
+                                                              root_entry(*m), steps, nullptr, &trails[0]);
+                        int level = 0;
+                        for (std::size_t count : {rays.size() / 2 + 1, rays.size() / 4 + 1}) {
+                            if (start.misses || !trails[level % 2].valid) break;
+                            const Beam part = beam_of_rays(rays, count, bounds);
+                            const EntryPoint plain = entry_point_search(*m, part, start, steps);
+                            const EntryPoint again = entry_point_search(*m, part, start, steps, &trails[level % 2],
+                                                                        &trails[(level + 1) % 2]);
+                            ++level;
+                            ++resumed;
+                            same += plain.node == again.node && plain.misses == again.misses;
+                            const std::uint32_t first = again.node, end = again.node + m->subtree_nodes[again.node];
+                            for (std::size_t i = 0; i < count; ++i) {
+                                const Ray& r = rays[i];
+                                if (!triangles && !room) {
+                                    for (const Leaf& leaf : leaves)
+                                        if (segment_meets_box(r, leaf.box)) {
+                                            ASSERT_FALSE(again.misses) << where << " beam " << n << " level " << level;
+                                            ASSERT_TRUE(leaf.node >= first && leaf.node < end)
+                                                << where << " beam " << n << " level " << level << ": leaf "
+                                                << leaf.node << " outside the subtree of " << again.node;
+                                        }
+                                    continue;
+                                }
+                                const Hit h = intersect_brute_force(scene, r);
+                                if (!h.hit()) continue;
+                                ASSERT_FALSE(again.misses) << where << " beam " << n << " level " << level;
+                                const double p[3] = {double(r.org.x) + double(r.dir.x) * h.t,
+                                                     double(r.org.y) + double(r.dir.y) * h.t,
+                                                     double(r.org.z) + double(r.dir.z) * h.t};
+                                const double scale = 1.0 + length(r.org) + length(r.dir) * double(h.t);
+                                ASSERT_TRUE(hit_below(tree.impl(), leaves, first, end, h.triangle, p, scale))
+                                    << where << " beam " << n << " level " << level << ": the closest hit on "
+                                    << h.triangle << " is outside the subtree of " << again.node;
+                            }
+                            start = again;
+                        }
+                    }
+                    EXPECT_GT(resumed, 300) << where;
+                    EXPECT_GT(same, resumed * 95 / 100) << where << ": of " << resumed;
+                }
+    }
+}
+
+TEST(MlrtaEntryPointProperty, EveryClosestHitLiesInTheFirstPotentialLeafOrAfterIt) {
+    // What interval traversal relies on when it starts at the trail's first potential leaf with the
+    // other children of the bifurcations on its path on its stack: every ray's closest hit lies in
+    // that leaf or below one of those children.
+    for (const Scene& scene : {random_soup(3000, 91), box_room(30, 92)}) {
+        const KdTree tree = KdTree::build(scene);
+        const Box& bounds = tree.impl().bounds;
+        const std::vector<Leaf> leaves = nonempty_leaves(tree.impl());
+        for (EpSearch order : {EpSearch::bifurcation_stack, EpSearch::top_down}) {
+            const auto m = make_mlrta(tree, settings(order, FrustumTest::inverse, true));
+            Rng rng(93);
+            int checked = 0, deeper = 0;
+            for (int n = 0; n < 1500; ++n) {
+                const std::vector<Ray> rays = random_beam_rays(rng, bounds);
+                SearchTrail whole_trail, part_trail;
+                std::uint64_t steps = 0;
+                const EntryPoint whole = entry_point_search(*m, beam_of_rays(rays, rays.size(), bounds), root_entry(*m),
+                                                            steps, nullptr, &whole_trail);
+                const std::size_t half = rays.size() / 2 + 1;
+                const EntryPoint part = entry_point_search(*m, beam_of_rays(rays, half, bounds), whole, steps,
+                                                           &whole_trail, &part_trail);
+                for (int level = 0; level < 2; ++level) {
+                    const SearchTrail& trail = level == 0 ? whole_trail : part_trail;
+                    if (!trail.valid || (level == 0 ? whole : part).misses) continue;
+                    ASSERT_EQ(trail.count > 0 ? trail.bif.at[0].node.node : trail.first.node,
+                              (level == 0 ? whole : part).node)
+                        << "beam " << n << ": the trail starts at the entry point";
+                    deeper += trail.first.node != (level == 0 ? whole : part).node;
+                    for (std::size_t i = 0; i < (level == 0 ? rays.size() : half); ++i) {
+                        const Ray& r = rays[i];
+                        const Hit h = intersect_brute_force(scene, r);
+                        if (!h.hit()) continue;
+                        ++checked;
+                        const double p[3] = {double(r.org.x) + double(r.dir.x) * h.t,
+                                             double(r.org.y) + double(r.dir.y) * h.t,
+                                             double(r.org.z) + double(r.dir.z) * h.t};
+                        const double scale = 1.0 + length(r.org) + length(r.dir) * double(h.t);
+                        bool found = hit_below(tree.impl(), leaves, trail.first.node, trail.first.node + 1,
+                                               h.triangle, p, scale);
+                        for (int j = 0; j < trail.count && !found; ++j) {
+                            const std::uint32_t other = trail.bif.at[j].other.node;
+                            found = hit_below(tree.impl(), leaves, other, other + m->subtree_nodes[other], h.triangle,
+                                              p, scale);
+                        }
+                        ASSERT_TRUE(found) << "beam " << n << " level " << level << ": the closest hit on "
+                                           << h.triangle << " is before the first potential leaf " << trail.first.node;
+                    }
+                }
+            }
+            EXPECT_GT(checked, 1000) << "order " << int(order);
+            EXPECT_GT(deeper, 100) << "order " << int(order);
+        }
+    }
+}
