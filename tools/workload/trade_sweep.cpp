@@ -40,7 +40,8 @@ std::string mlrta_settings(const MlrtaSettings& m) {
            " min=" + std::to_string(m.min_tile) +
            " frustum=" + (m.frustum_test == FrustumTest::inverse ? "inverse" : "direct") +
            " culling=" + (m.triangle_culling ? "on" : "off") + " ep-triangles=" + (m.ep_triangles ? "on" : "off") +
-           " stuck-stop=" + (m.stop_when_stuck ? "on" : "off");
+           " stuck-stop=" + (m.stop_when_stuck ? "on" : "off") + " stuck-retry=" + (m.retry_stuck ? "on" : "off") +
+           " ep-resume=" + (m.ep_resume ? "on" : "off");
 }
 
 // A named variant of the default settings S: change(s) applied to S{}.
@@ -77,6 +78,8 @@ std::vector<std::pair<std::string, MlrtaSettings>> mlrta_variants(bool image) {
     if (!image) return v;
     add_variant(v, " no EP triangles", [](M& m) { m.ep_triangles = false; });
     add_variant(v, " paper schedule", [](M& m) { m.stop_when_stuck = false; });
+    add_variant(v, " no stuck retry", [](M& m) { m.retry_stuck = false; });
+    add_variant(v, " no EP resume", [](M& m) { m.ep_resume = false; });
     add_variant(v, " direct", [](M& m) { m.frustum_test = FrustumTest::direct; });
     add_variant(v, " tile 32", [](M& m) { m.initial_tile = 32; });
     add_variant(v, " split 4", [](M& m) { m.split_factor = 4; });
