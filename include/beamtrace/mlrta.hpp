@@ -53,8 +53,9 @@ struct MlrtaSettings {
     bool ep_triangles = true;
     // A sub-tile's entry-point search starts where its parent's search found its first potential
     // leaf (every leaf before it is empty for the parent's beam, so for the sub-tile's), deciding
-    // again only the bifurcations on that leaf's path (not in the paper). On by default; off, every
-    // search walks depth first from the parent's entry point, as in the paper.
+    // again only the bifurcations on that leaf's path, and a tile's packets start interval
+    // traversal at the first potential leaf of its own search (not in the paper; the same answers).
+    // On by default; off, searches and traversals start at the entry point, as in the paper.
     bool ep_resume = true;
     // Throws beamtrace::Error naming the bad setting.
     void validate() const;
