@@ -130,3 +130,32 @@ TEST(Bench, ResultsHaveTheJsonContract) {
     EXPECT_TRUE(j["engines"]["kd1"]["stats"].contains("inner_steps_per_ray"));
     EXPECT_EQ(to_table(r).rows(), 4u);
 }
+
+TEST(Bench, MlrtaStatsHaveTheJsonContract) {
+    // The paper's Table 2 counters of kd16 and mlrta, and the settings that produced them.
+    WorkloadConfig config;
+    config.scene = "tetra:3";
+    config.width = config.height = 64;
+    const Workload w = make_workload(config);
+    BenchOptions options;
+    options.engines = {"kd16", "mlrta"};
+    options.repeats = 1;
+    const nlohmann::json j = to_json(run_bench(w, options));
+    for (const std::string& name : options.engines) {
+        const auto& s = j["engines"][name]["stats"];
+        for (const char* key : {"cells_per_packet", "ep_cells_per_packet", "xp_cells_per_packet",
+                                "intersections_per_packet", "packets", "tiles", "divergent_tiles", "single_rays",
+                                "blocked_tiles", "initial_tile", "split_factor", "min_tile", "frustum_test", "ep_search",
+                                "ep_triangles", "ep_resume", "stuck_stop", "stuck_retry", "kd_nodes"})
+            EXPECT_TRUE(s.contains(key)) << name << " " << key;
+        EXPECT_NEAR(s["cells_per_packet"].get<double>(),
+                    s["ep_cells_per_packet"].get<double>() + s["xp_cells_per_packet"].get<double>(), 1e-9)
+            << name;
+        EXPECT_EQ(s["packets"], 256) << name;
+        EXPECT_EQ(j["engines"][name]["oracle"]["mismatch"], 0) << name;
+    }
+    EXPECT_EQ(j["engines"]["kd16"]["stats"]["ep_cells_per_packet"], 0.0);
+    EXPECT_GT(j["engines"]["mlrta"]["stats"]["ep_cells_per_packet"].get<double>(), 0.0);
+    EXPECT_EQ(j["engines"]["mlrta"]["stats"]["ep_resume"], true);
+    EXPECT_EQ(j["engines"]["mlrta"]["stats"]["stuck_retry"], true);
+}

@@ -124,6 +124,10 @@ public:
         j["min_tile"] = s.min_tile;
         j["frustum_test"] = s.frustum_test == FrustumTest::inverse ? "inverse" : "direct";
         j["ep_search"] = s.ep_search == EpSearch::top_down ? "top-down" : "bifurcation-stack";
+        j["ep_triangles"] = s.ep_triangles;
+        j["ep_resume"] = s.ep_resume;
+        j["stuck_stop"] = s.stop_when_stuck;
+        j["stuck_retry"] = s.retry_stuck;
         j["kd_nodes"] = tree_->stats().nodes;
         return j;
     }
