@@ -105,19 +105,28 @@ TEST(Engines, BruteRefusesLargeScenes) {
     EXPECT_THROW(brute->build(s.scene, EngineOptions{}), Error);
 }
 
-TEST(Bench, ResultsHaveTheJsonContract) {
+namespace {
+
+// One timed pass of `engines` on primary rays of a size x size image of `scene`.
+BenchResult bench_once(const std::string& scene, int size, const std::vector<std::string>& engines) {
     WorkloadConfig config;
-    config.scene = "tetra:2";
-    config.width = config.height = 16;
-    const Workload w = make_workload(config);
+    config.scene = scene;
+    config.width = config.height = size;
     BenchOptions options;
-    options.engines = {"kd1", "embree1", "embree16", "brute"};
+    options.engines = engines;
     options.repeats = 1;
-    const BenchResult r = run_bench(w, options);
+    return run_bench(make_workload(config), options);
+}
+
+}  // namespace
+
+TEST(Bench, ResultsHaveTheJsonContract) {
+    const std::vector<std::string> engines = {"kd1", "embree1", "embree16", "brute"};
+    const BenchResult r = bench_once("tetra:2", 16, engines);
     const nlohmann::json j = to_json(r);
     for (const char* key : {"scene", "triangles", "mode", "width", "height", "threads", "rays", "engines"})
         EXPECT_TRUE(j.contains(key)) << key;
-    for (const std::string& name : options.engines) {
+    for (const std::string& name : engines) {
         const auto& e = j["engines"][name];
         for (const char* key : {"mrays_per_s", "seconds", "build_seconds", "memory_bytes", "hits", "oracle", "stats"})
             EXPECT_TRUE(e.contains(key)) << name << " " << key;
@@ -133,15 +142,9 @@ TEST(Bench, ResultsHaveTheJsonContract) {
 
 TEST(Bench, MlrtaStatsHaveTheJsonContract) {
     // The paper's Table 2 counters of kd16 and mlrta, and the settings that produced them.
-    WorkloadConfig config;
-    config.scene = "tetra:3";
-    config.width = config.height = 64;
-    const Workload w = make_workload(config);
-    BenchOptions options;
-    options.engines = {"kd16", "mlrta"};
-    options.repeats = 1;
-    const nlohmann::json j = to_json(run_bench(w, options));
-    for (const std::string& name : options.engines) {
+    const std::vector<std::string> engines = {"kd16", "mlrta"};
+    const nlohmann::json j = to_json(bench_once("tetra:3", 64, engines));
+    for (const std::string& name : engines) {
         const auto& s = j["engines"][name]["stats"];
         for (const char* key : {"cells_per_packet", "ep_cells_per_packet", "xp_cells_per_packet",
                                 "intersections_per_packet", "packets", "tiles", "divergent_tiles", "single_rays",
