@@ -18,7 +18,17 @@ execute_process(COMMAND ${FUZZER} -runs=${RUNS} -seed=${SEED} -max_len=8192 -tim
 string(REGEX MATCH "stat::number_of_executed_units: *[0-9]+" executed "${err}")
 message(STATUS "${FUZZER}: ${executed}")
 if(NOT rc EQUAL 0)
+  # The next run starts by removing WORK_DIR: the inputs that did it are also copied to a folder
+  # beside it that no run removes, so a rerun cannot lose them.
   file(GLOB found ${WORK_DIR}/artifacts/*)
-  message(FATAL_ERROR "the fuzzer found a problem (exit code ${rc}); input kept in: ${found}\n"
+  string(TIMESTAMP stamp "%Y%m%d-%H%M%S")
+  set(kept ${WORK_DIR}-findings/${stamp})
+  file(MAKE_DIRECTORY ${kept})
+  if(found)
+    file(COPY ${found} DESTINATION ${kept})
+  endif()
+  file(WRITE ${kept}/report.txt "${err}")
+  string(REGEX MATCH "Seed: [0-9]+" seed_used "${err}")
+  message(FATAL_ERROR "the fuzzer found a problem (exit code ${rc}, ${seed_used}); input and report kept in ${kept}\n"
                       "Keep it as a regression case in ${CORPUS} and in a unit test.\n${err}")
 endif()

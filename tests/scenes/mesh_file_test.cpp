@@ -265,6 +265,10 @@ TEST_F(MeshFile, OffHostileInputIsRejectedNamingTheProblem) {
         {"OFF\n4 1 0\n" + quad + "3 0 1 2.5\n", "is not a whole number"},
         {"OFF\n4 1 0\n" + quad + "4 0 1 2\n", "has 3 of its 4 vertex indices"},
         {"OFF\n4 1 0\n" + quad + "99999999999999999999 0 1 2\n", "too large"},
+        // 2^64 - 1 corners (a fuzzer's find: count + 1 wrapped to 0 and the indices were read past
+        // the line's end).
+        {"OFF\n4 1 0\n" + quad + "18446744073709551615 0 1 2\n", "has 3 of its 18446744073709551615 vertex indices"},
+        {"OFF\n4 1 0\n" + quad + "000018446744073709551615 0 1\n", "has 2 of its 18446744073709551615 vertex indices"},
         {"OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n", "NaN or infinite"},
         {"OFF\n3 1 0\n0 0 0\n1 inf 0\n0 1 0\n3 0 1 2\n", "NaN or infinite"},
         {"OFF\n3 1 0\n0 0 0\n1 1e39 0\n0 1 0\n3 0 1 2\n", "beyond float's range"},

@@ -148,7 +148,7 @@ MeshArrays parse_off(std::string_view text, const std::string& name) {
         if (!lines.next(t))
             throw Error(name + ": the file ends after " + std::to_string(f) + " of " + std::to_string(nf) + " faces");
         const std::uint64_t n = parse_count(lines, t[0], "face corner");
-        if (n + 1 > t.size())
+        if (n >= t.size())  // (not n + 1 > size: a count of 2^64 - 1 would wrap to 0)
             lines.fail("face " + std::to_string(f) + " has " + std::to_string(t.size() - 1) + " of its " +
                        std::to_string(n) + " vertex indices");
         corners.clear();
