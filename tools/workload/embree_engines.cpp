@@ -3,6 +3,7 @@
 
 #include "oracle/embree_oracle.hpp"
 #include "workload/engine_registry.hpp"
+#include "workload/packet_answers.hpp"
 #include "workload/parallel.hpp"
 
 namespace beamtrace::workload {
@@ -24,7 +25,7 @@ public:
                 if (packets_) {
                     PacketHits16 out;
                     oracle_->intersect16(packet, out);
-                    for (int i = 0; i < 16; ++i) hits[p * 16 + std::size_t(i)] = out.hit(i);
+                    spread_hits(packet, out, hits.data() + p * 16);
                 } else {
                     for (std::uint32_t m = packet.active; m; m &= m - 1) {
                         const int i = __builtin_ctz(m);
@@ -41,8 +42,7 @@ public:
             for (std::size_t p = b; p < e; ++p) {
                 const Packet16& packet = rays.packets[p];
                 if (packets_) {
-                    const std::uint32_t bits = oracle_->occluded16(packet);
-                    for (int i = 0; i < 16; ++i) occluded[p * 16 + std::size_t(i)] = (bits >> i) & 1u;
+                    spread_bits(oracle_->occluded16(packet), occluded.data() + p * 16);
                 } else {
                     for (std::uint32_t m = packet.active; m; m &= m - 1) {
                         const int i = __builtin_ctz(m);

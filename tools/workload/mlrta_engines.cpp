@@ -7,6 +7,7 @@
 #include "beamtrace/error.hpp"
 #include "beamtrace/mlrta.hpp"
 #include "workload/engine_registry.hpp"
+#include "workload/packet_answers.hpp"
 #include "workload/parallel.hpp"
 
 namespace beamtrace::workload {
@@ -87,11 +88,7 @@ public:
         trace(rays, rays.packets, threads, out.data(), nullptr, nullptr);
         hits.assign(rays.slots(), Hit{});
         for_packet_ranges(out.size(), threads, [&](std::size_t b, std::size_t e) {
-            for (std::size_t p = b; p < e; ++p)
-                for (std::uint32_t m = rays.packets[p].active & 0xFFFFu; m; m &= m - 1) {
-                    const int i = __builtin_ctz(m);
-                    hits[p * 16 + std::size_t(i)] = out[p].hit(i);
-                }
+            for (std::size_t p = b; p < e; ++p) spread_hits(rays.packets[p], out[p], hits.data() + p * 16);
         });
     }
 
@@ -103,8 +100,7 @@ public:
         trace(rays, beams_ ? reversed_ : rays.packets, threads, nullptr, bits.data(), nullptr);
         occluded.assign(rays.slots(), 0);
         for_packet_ranges(bits.size(), threads, [&](std::size_t b, std::size_t e) {
-            for (std::size_t p = b; p < e; ++p)
-                for (int i = 0; i < 16; ++i) occluded[p * 16 + std::size_t(i)] = (bits[p] >> i) & 1u;
+            for (std::size_t p = b; p < e; ++p) spread_bits(bits[p], occluded.data() + p * 16);
         });
     }
 

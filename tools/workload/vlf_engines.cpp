@@ -8,6 +8,7 @@
 #include "beamtrace/error.hpp"
 #include "beamtrace/vlf.hpp"
 #include "workload/engine_registry.hpp"
+#include "workload/packet_answers.hpp"
 #include "workload/parallel.hpp"
 
 namespace beamtrace::workload {
@@ -48,11 +49,7 @@ public:
                 const std::size_t ce = std::min(e, c + run);
                 field_->intersect(std::span(rays.packets).subspan(c, ce - c), std::span(out).subspan(c, ce - c), mode_,
                                   order);
-                for (std::size_t p = c; p < ce; ++p)
-                    for (std::uint32_t m = rays.packets[p].active & 0xFFFFu; m; m &= m - 1) {
-                        const int i = __builtin_ctz(m);
-                        hits[p * 16 + std::size_t(i)] = out[p].hit(i);
-                    }
+                for (std::size_t p = c; p < ce; ++p) spread_hits(rays.packets[p], out[p], hits.data() + p * 16);
             }
         });
     }
@@ -67,8 +64,7 @@ public:
             field_->occluded(std::span(rays.packets).subspan(b, e - b), std::span(bits).subspan(b, e - b), mode_, order);
         });
         for_packet_ranges(bits.size(), threads, [&](std::size_t b, std::size_t e) {
-            for (std::size_t p = b; p < e; ++p)
-                for (std::uint32_t m = bits[p] & 0xFFFFu; m; m &= m - 1) occluded[p * 16 + std::size_t(__builtin_ctz(m))] = 1;
+            for (std::size_t p = b; p < e; ++p) spread_bits(bits[p], occluded.data() + p * 16);
         });
     }
 
