@@ -35,6 +35,9 @@ struct PacketBounds {
         const Interval offset = widen({p - org[k].hi, p - org[k].lo}, pad);
         return widen(offset * inv[k], pad);
     }
+    // The same at the face of `box` on axis k where the rays enter its slab, and where they leave it.
+    Interval entry_t(const Box& box, int k) const { return plane_t(k, sign[k] > 0 ? box.lower[k] : box.upper[k]); }
+    Interval exit_t(const Box& box, int k) const { return plane_t(k, sign[k] > 0 ? box.upper[k] : box.lower[k]); }
 };
 
 float scene_pad(const Box& b) {
@@ -47,9 +50,8 @@ float scene_pad(const Box& b) {
 bool packet_misses_box(const PacketBounds& pb, const Box& box, float t0, float t1) {
     Interval entry[3], exit[3];
     for (int k = 0; k < 3; ++k) {
-        const bool up = pb.sign[k] > 0;
-        entry[k] = pb.plane_t(k, up ? box.lower[k] : box.upper[k]);
-        exit[k] = pb.plane_t(k, up ? box.upper[k] : box.lower[k]);
+        entry[k] = pb.entry_t(box, k);
+        exit[k] = pb.exit_t(box, k);
         if (exit[k].hi < t0 || entry[k].lo > t1) return true;
     }
     for (int a = 0; a < 3; ++a)
@@ -143,9 +145,8 @@ void interval_traversal(const Mlrta::Impl& m, const Packet16& packet, std::uint3
             a0 = e0;
             a1 = e1;
             for (int k = 0; k < 3; ++k) {
-                const bool up = pb.sign[k] > 0;
-                a0 = std::max(a0, pb.plane_t(k, up ? b.lower[k] : b.upper[k]).lo);
-                a1 = std::min(a1, pb.plane_t(k, up ? b.upper[k] : b.lower[k]).hi);
+                a0 = std::max(a0, pb.entry_t(b, k).lo);
+                a1 = std::min(a1, pb.exit_t(b, k).hi);
             }
         };
         for (int i = 0; i < trail->count; ++i) {
