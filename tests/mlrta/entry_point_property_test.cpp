@@ -69,6 +69,11 @@ MlrtaSettings settings(EpSearch order, FrustumTest test, bool ep_triangles = fal
     return s;
 }
 
+// The first `count` rays: their beam (rays added one by one) lies inside the beam of all of them.
+std::vector<Ray> first_rays(const std::vector<Ray>& rays, std::size_t count) {
+    return {rays.begin(), rays.begin() + std::ptrdiff_t(std::min(count, rays.size()))};
+}
+
 // A leaf below `node` holds triangle `id` and its box, grown by the rounding of a float hit
 // distance (`scale`: the size of the coordinates involved), holds point p.
 bool hit_below(const KdTree::Impl& kd, const std::vector<Leaf>& leaves, std::uint32_t first, std::uint32_t end,
@@ -198,9 +203,7 @@ TEST(MlrtaEntryPointProperty, BothOrdersFindTheSameEntryPoint) {
                 ASSERT_EQ(a.node, b.node) << "beam " << n;
                 ASSERT_EQ(a.misses, b.misses) << "beam " << n;
                 if (a.misses) continue;
-                Beam part;
-                part.set_scene_scale(tree.impl().bounds);
-                for (std::size_t i = 0; i < rays.size() / 2 + 1; ++i) part.add(rays[i]);
+                const Beam part = beam_of(first_rays(rays, rays.size() / 2 + 1), &tree.impl().bounds);
                 const EntryPoint c = entry_point_search(*stack, part, a, steps_stack);
                 const EntryPoint d = entry_point_search(*top_down, part, b, steps_top_down);
                 ASSERT_EQ(c.node, d.node) << "beam " << n << " part";
@@ -212,18 +215,6 @@ TEST(MlrtaEntryPointProperty, BothOrdersFindTheSameEntryPoint) {
         }
     }
 }
-
-namespace {
-
-// A beam of rays added one by one: the beam of some of them lies inside the beam of all.
-Beam beam_of_rays(const std::vector<Ray>& rays, std::size_t count, const Box& bounds) {
-    Beam b;
-    b.set_scene_scale(bounds);
-    for (std::size_t i = 0; i < std::min(count, rays.size()); ++i) b.add(rays[i]);
-    return b;
-}
-
-}  // namespace
 
 TEST(MlrtaEntryPointProperty, APartResumedFromItsWholesTrailFindsAValidEntryPoint) {
     // A sub-tile searches from its parent's entry point; with the parent's trail it starts at the
@@ -251,12 +242,12 @@ TEST(MlrtaEntryPointProperty, APartResumedFromItsWholesTrailFindsAValidEntryPoin
                         const std::vector<Ray> rays = random_beam_rays(rng, bounds);
                         SearchTrail trails[2];
                         std::uint64_t steps = 0;
-                        EntryPoint start = entry_point_search(*m, beam_of_rays(rays, rays.size(), bounds),
+                        EntryPoint start = entry_point_search(*m, beam_of(rays, &bounds),
                                                               root_entry(*m), steps, nullptr, &trails[0]);
                         int level = 0;
                         for (std::size_t count : {rays.size() / 2 + 1, rays.size() / 4 + 1}) {
                             if (start.misses || !trails[level % 2].valid) break;
-                            const Beam part = beam_of_rays(rays, count, bounds);
+                            const Beam part = beam_of(first_rays(rays, count), &bounds);
                             const EntryPoint plain = entry_point_search(*m, part, start, steps);
                             const EntryPoint again = entry_point_search(*m, part, start, steps, &trails[level % 2],
                                                                         &trails[(level + 1) % 2]);
@@ -312,10 +303,10 @@ TEST(MlrtaEntryPointProperty, EveryClosestHitLiesInTheFirstPotentialLeafOrAfterI
                 const std::vector<Ray> rays = random_beam_rays(rng, bounds);
                 SearchTrail whole_trail, part_trail;
                 std::uint64_t steps = 0;
-                const EntryPoint whole = entry_point_search(*m, beam_of_rays(rays, rays.size(), bounds), root_entry(*m),
+                const EntryPoint whole = entry_point_search(*m, beam_of(rays, &bounds), root_entry(*m),
                                                             steps, nullptr, &whole_trail);
                 const std::size_t half = rays.size() / 2 + 1;
-                const EntryPoint part = entry_point_search(*m, beam_of_rays(rays, half, bounds), whole, steps,
+                const EntryPoint part = entry_point_search(*m, beam_of(first_rays(rays, half), &bounds), whole, steps,
                                                            &whole_trail, &part_trail);
                 for (int level = 0; level < 2; ++level) {
                     const SearchTrail& trail = level == 0 ? whole_trail : part_trail;
