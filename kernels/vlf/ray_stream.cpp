@@ -36,10 +36,13 @@ void counting_sort(std::span<const BinnedRay> in, BinnedRay* out, std::uint32_t 
     for (const BinnedRay& r : in) out[next[key(r)]++] = r;
 }
 
-// Up to 16 rays as a packet, with their start (lookups, first tiles) and where they came from.
+// Up to 16 rays as a packet, with their start (lookups, first tiles) and where they came from: a
+// packet of the input as it is (in order), or one made of binned rays (`own`).
 struct Group {
-    Packet16 packet;
+    const Packet16* packet = nullptr;
+    Packet16 own;
     std::uint32_t slots[16];
+    std::size_t index = 0;  // in order: the input packet's place
     vlf::PacketStart start;
 };
 
@@ -53,7 +56,7 @@ void pipeline(const VisibilityField::Impl& f, std::size_t groups, Fill&& fill, W
     auto at = [&](std::size_t g) -> Group& { return ring[g % (kAhead + 1)]; };
     auto begin = [&](std::size_t g) {
         fill(g, at(g));
-        vlf::start_packet(f, at(g).packet, at(g).start);
+        vlf::start_packet(f, *at(g).packet, at(g).start);
     };
     for (std::size_t g = 0; g < groups && g < kAhead; ++g) begin(g);
     if (groups > 0) vlf::prefetch_first_blocks(at(0).start);
@@ -71,20 +74,22 @@ void trace_bin(const VisibilityField::Impl& f, std::span<const BinnedRay> rays, 
     pipeline(f, (rays.size() + 15) / 16, [&](std::size_t g, Group& q) {
         const std::size_t b = g * 16;
         const int count = int(std::min<std::size_t>(16, rays.size() - b));
-        q.packet.active = count == 16 ? 0xFFFFu : (1u << count) - 1u;
+        q.own.active = count == 16 ? 0xFFFFu : (1u << count) - 1u;
         for (int k = 0; k < 16; ++k) {
             const BinnedRay& r = rays[b + std::size_t(k < count ? k : 0)];
-            q.packet.set_ray(k, r.ray);
+            q.own.set_ray(k, r.ray);
             q.slots[k] = r.slot;
         }
+        q.packet = &q.own;
     }, walk);
 }
 
-// The packets as given.
+// The packets as given (not copied: a group points at its packet, whose place is its index).
 template <class Walk>
 void in_order(const VisibilityField::Impl& f, std::span<const Packet16> packets, Walk&& walk) {
     pipeline(f, packets.size(), [&](std::size_t g, Group& q) {
-        q.packet = packets[g];
+        q.packet = &packets[g];
+        q.index = g;
         for (int k = 0; k < 16; ++k) q.slots[k] = std::uint32_t(g * 16 + std::size_t(k));
     }, walk);
 }
@@ -136,26 +141,28 @@ void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, W
     }
 }
 
-// in_order or binned.
-template <class Walk>
-void stream(const VisibilityField::Impl& f, std::span<const Packet16> packets, VlfOrder order, Walk&& walk) {
-    if (order == VlfOrder::input) in_order(f, packets, walk);
-    else binned(f, packets, walk);
-}
-
 }  // namespace
 
 void VisibilityField::intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, VlfMode mode,
                                 VlfOrder order) const {
+    const Impl& f = *impl_;
+    auto closest = [&](const Group& g, int i) {
+        return vlf::walk_field<false, false>(f, *g.start.psf[i], g.start.lookup.ray(i),
+                                             g.start.lookup.watertight(i, *g.packet), mode, nullptr);
+    };
+    if (order == VlfOrder::input) {
+        // Each packet's answers written once, all 16 lanes (no clearing pass over the output).
+        return in_order(f, packets, [&](const Group& g) {
+            PacketHits16& out = hits[g.index];
+            for (int i = 0; i < 16; ++i) out.set_hit(i, ((g.start.lookup.valid >> i) & 1u) ? closest(g, i) : Hit{});
+        });
+    }
     for (PacketHits16& h : hits)
         for (int i = 0; i < 16; ++i) h.set_hit(i, Hit{});
-    const Impl& f = *impl_;
-    stream(f, packets, order, [&](const Group& g) {
+    binned(f, packets, [&](const Group& g) {
         for (std::uint32_t m = g.start.lookup.valid; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
-            const Hit h = vlf::walk_field<false, false>(f, *g.start.psf[i], g.start.lookup.ray(i),
-                                                        g.start.lookup.watertight(i, g.packet), mode, nullptr);
-            hits[g.slots[i] / 16].set_hit(int(g.slots[i] % 16), h);
+            hits[g.slots[i] / 16].set_hit(int(g.slots[i] % 16), closest(g, i));
         }
     });
 }
@@ -168,7 +175,7 @@ void VisibilityField::occluded(std::span<const Packet16> packets, std::span<std:
         for (std::uint32_t m = g.start.lookup.valid; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
             if (vlf::walk_field<true, false>(f, *g.start.psf[i], g.start.lookup.ray(i),
-                                             g.start.lookup.watertight(i, g.packet), mode, nullptr)
+                                             g.start.lookup.watertight(i, *g.packet), mode, nullptr)
                     .hit())
                 occluded[g.slots[i] / 16] |= 1u << (g.slots[i] % 16);
         }
