@@ -57,12 +57,29 @@ struct TileBspView {
     const std::uint32_t* footprints() const { return block + (leaves - 1) + leaves + groups_count(); }
     const std::uint32_t* ids() const { return footprints() + entries(); }
     // The leaf whose depth range holds z (the lower one when z is a split): the number of splits
-    // below z, by a binary search of fixed steps (the splits ascend strictly), whose selects need
-    // no branch on the data. z is compared as a float; where that rounding moves it across a
-    // split, the triangles near z (padded far more than a float's rounding) are in both leaves.
+    // below z. Up to kCountedSplits splits are compared with z four at a time and the ones below
+    // counted: independent loads and compares, where a binary search waits for each load before the
+    // next (it was a fifth of the time of PSF-aligned AO rays). More splits (dense tiles) go by a
+    // binary search of fixed steps (the splits ascend strictly), whose selects need no branch on the
+    // data. Both give the same count. z is compared as a float; where that rounding moves it across
+    // a split, the triangles near z (padded far more than a float's rounding) are in both leaves.
+    static constexpr std::uint32_t kCountedSplits = 32;
     std::uint32_t leaf(double z) const {
         const float zf = float(z);
         const std::uint32_t splits = leaves - 1;
+        if (splits <= kCountedSplits) {
+            // A load may run past the last split into the leaf ends (masked off below): a block
+            // holds at least splits + 3 words after its first split (the ends, one footprint, one id).
+            const __m128 q = _mm_set1_ps(zf);
+            std::uint32_t below = 0;
+            for (std::uint32_t k = 0; k < splits; k += 4) {
+                auto bits = std::uint32_t(
+                    _mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(reinterpret_cast<const float*>(block + k)), q)));
+                if (splits - k < 4) bits &= (1u << (splits - k)) - 1u;
+                below += std::uint32_t(std::popcount(bits));
+            }
+            return below;
+        }
         std::uint32_t j = 0;
         for (std::uint32_t step = std::bit_floor(splits); step; step >>= 1) {
             const std::uint32_t next = j + step;

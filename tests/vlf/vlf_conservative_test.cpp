@@ -206,3 +206,39 @@ TEST(TileBsp, GroupsHoldTheirEntries) {
         }
     }
 }
+
+// TileBspView::leaf counts the splits below a depth, four at a time up to kCountedSplits splits and
+// by a binary search beyond: both give the count a plain loop gives, at the splits themselves, a
+// float's step either side of them, between them and outside them all.
+TEST(TileBsp, LeafOfADepthCountsTheSplitsBelowIt) {
+    std::mt19937 rng(907);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    int counted = 0, searched = 0;
+    for (int trial = 0; trial < 60; ++trial) {
+        const std::size_t count = 1 + std::size_t(rng() % (trial % 3 == 0 ? 40 : 4000));
+        std::vector<DepthItem> items(count);
+        for (std::size_t k = 0; k < count; ++k) {
+            const float lo = 2.0f * u(rng) - 1.0f, hi = lo + 0.002f * u(rng);
+            items[k] = DepthItem{std::uint32_t(k), lo, hi, 0u};
+        }
+        TileBspBuilder builder(trial % 4 * 2);
+        std::vector<std::uint32_t> block;
+        const std::uint32_t leaves = builder.build(items, block);
+        const TileBspView view{block.data(), leaves};
+        const std::uint32_t splits = view.leaves - 1;
+        (splits <= TileBspView::kCountedSplits ? counted : searched) += 1;
+        std::vector<double> depths{-1e30, -2.0, 0.0, 2.0, 1e30};
+        for (std::uint32_t j = 0; j < splits; ++j) {
+            const float s = view.split(j);
+            depths.insert(depths.end(), {double(s), double(std::nextafter(s, -2.0f)), double(std::nextafter(s, 2.0f))});
+        }
+        for (int k = 0; k < 200; ++k) depths.push_back(2.4 * double(u(rng)) - 1.2);
+        for (const double z : depths) {
+            std::uint32_t below = 0;
+            for (std::uint32_t j = 0; j < splits; ++j) below += view.split(j) < float(z) ? 1u : 0u;
+            ASSERT_EQ(view.leaf(z), below) << "z " << z << ", " << splits << " splits";
+        }
+    }
+    EXPECT_GT(counted, 10);
+    EXPECT_GT(searched, 10);
+}
