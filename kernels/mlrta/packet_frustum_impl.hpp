@@ -1,12 +1,42 @@
 #pragma once
 // PacketFrustum::misses written once over xsimd batches, W triangles per step (structure of arrays
 // gathered from the leaf's triangles). Included only by the per-ISA units.
+#include <type_traits>
+
+#include <immintrin.h>
 #include <xsimd/xsimd.hpp>
 
 #include "common/lane_bits.hpp"
 #include "mlrta/packet_frustum.hpp"
 
 namespace beamtrace::mlrta::simd {
+
+// Coordinate `c` (0..8: corner * 3 + axis) of triangles tris[0 .. live - 1], one per lane; lanes
+// from `live` on hold zeros. AVX2 and AVX-512 gather it with the lanes past `live` masked off (no
+// load); SSE4.2, which has no gather, copies lane by lane (`lanes` is its scratch). The same
+// values either way.
+template <class Arch>
+xsimd::batch<float, Arch> triangle_coordinate(const Triangle* tris, int live, int c, float* lanes) {
+    using B = xsimd::batch<float, Arch>;
+    constexpr int W = int(B::size);
+    const float* base = &tris[0].v0.x + c;
+    constexpr int kStride = int(sizeof(Triangle) / sizeof(float));
+    static_assert(sizeof(Triangle) == 9 * sizeof(float), "a triangle is nine packed floats");
+    if constexpr (std::is_same_v<Arch, xsimd::avx512bw>) {
+        const __m512i index = _mm512_mullo_epi32(_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
+                                                 _mm512_set1_epi32(kStride));
+        const auto on = __mmask16(live >= W ? 0xFFFFu : (1u << live) - 1u);
+        return B(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), on, index, base, 4));
+    } else if constexpr (std::is_same_v<Arch, xsimd::avx2>) {
+        const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+        const __m256i index = _mm256_mullo_epi32(lane, _mm256_set1_epi32(kStride));
+        const __m256 on = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(live), lane));
+        return B(_mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, index, on, 4));
+    } else {
+        for (int i = 0; i < W; ++i) lanes[i] = i < live ? base[i * kStride] : 0.0f;
+        return B::load_unaligned(lanes);
+    }
+}
 
 template <class Arch>
 std::uint32_t frustum_misses(const PacketFrustum& f, const Triangle* tris, int n) {
@@ -23,25 +53,13 @@ std::uint32_t frustum_misses(const PacketFrustum& f, const Triangle* tris, int n
         // Corner coordinates on the main axis and the two others, one triangle per lane; lanes past
         // n hold zeros (their bits are dropped).
         const int live = n - base < W ? n - base : W;
-        alignas(64) float cm[3][W], c0[3][W], c1[3][W];
-        if (live < W)
-            for (int v = 0; v < 3; ++v) {
-                zero.store_aligned(cm[v]);
-                zero.store_aligned(c0[v]);
-                zero.store_aligned(c1[v]);
-            }
-        for (int i = 0; i < live; ++i) {
-            const float* corner = &tris[base + i].v0.x;
-            for (int v = 0; v < 3; ++v) {
-                cm[v][i] = corner[3 * v + m];
-                c0[v][i] = corner[3 * v + j0];
-                c1[v][i] = corner[3 * v + j1];
-            }
-        }
+        alignas(64) float scratch[W];
         auto in_front = B(0.0f) == zero;  // all true
         auto below0 = in_front, above0 = in_front, below1 = in_front, above1 = in_front, beyond = in_front;
         for (int v = 0; v < 3; ++v) {
-            const B pm = B::load_aligned(cm[v]), p0 = B::load_aligned(c0[v]), p1 = B::load_aligned(c1[v]);
+            const B pm = triangle_coordinate<Arch>(tris + base, live, 3 * v + m, scratch);
+            const B p0 = triangle_coordinate<Arch>(tris + base, live, 3 * v + j0, scratch);
+            const B p1 = triangle_coordinate<Arch>(tris + base, live, 3 * v + j1, scratch);
             const B w = (pm - om) * sm;
             in_front = in_front & (w > zero);
             beyond = beyond & ((w - (xsimd::abs(pm) + abs_om) * depth_error) > reach);
