@@ -59,7 +59,7 @@ struct TileBspView {
     // The leaf whose depth range holds z (the lower one when z is a split): the number of splits
     // below z. Up to kCountedSplits splits are compared with z four at a time and the ones below
     // counted: independent loads and compares, where a binary search waits for each load before the
-    // next (it was a fifth of the time of PSF-aligned AO rays). More splits (dense tiles) go by a
+    // next (PSF-aligned AO rays of the bunny: 2% faster). More splits (dense tiles) go by a
     // binary search of fixed steps (the splits ascend strictly), whose selects need no branch on the
     // data. Both give the same count. z is compared as a float; where that rounding moves it across
     // a split, the triangles near z (padded far more than a float's rounding) are in both leaves.
