@@ -22,6 +22,8 @@ struct BenchArgs {
     std::string ao_dirs = "random";
     std::string vlf_order = "auto";
     KdBuildRules kd;
+    bool anchor_engines = true;
+    bool embree_robust = true;
 };
 
 std::string bench_header(const workload::BenchResult& r) {
@@ -29,7 +31,15 @@ std::string bench_header(const workload::BenchResult& r) {
     std::snprintf(buf, sizeof buf, "scene %s (%zu triangles), mode %s, %dx%d, %d thread%s, %zu rays, best of timed runs\n",
                   r.scene.c_str(), r.triangles, workload::to_string(r.mode), r.width, r.height, r.threads,
                   r.threads == 1 ? "" : "s", r.rays);
-    return buf;
+    std::string header = buf;
+    if (r.anchor) {
+        std::snprintf(buf, sizeof buf, "anchor: %s (%s context flag), %.3f Mrays/s: the fastest Embree engine of this run\n",
+                      r.anchor->engine.c_str(), r.anchor->context_flag.c_str(), r.anchor->mrays_per_s);
+        header += buf;
+    } else {
+        header += "no anchor: this run has no Embree engine\n";
+    }
+    return header;
 }
 
 }  // namespace
@@ -65,6 +75,8 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_flag("--vlf-eager", args->vlf.eager, "vlf: build every parallel subfield before tracing (default: on first use)");
     cmd->add_option("--vlf-order", args->vlf_order, "vlf: trace rays as given (input), binned by PSF (psf), or binned for occlusion rays only (auto)")->capture_default_str();
     cmd->add_option("--ao-dirs", args->ao_dirs, "ao mode: random (stratified, cosine weighted) | psf (VLF-RT's --vlf-dirs directions)")->capture_default_str();
+    cmd->add_flag("--anchor-engines,!--no-anchor-engines", args->anchor_engines, "time every Embree engine (embree1, embree16, embree-stream) even when --engines leaves it out, so that the anchor, the fastest of them, is Embree at its best (default on; off: the anchor is the fastest Embree engine listed, if any)");
+    cmd->add_flag("--embree-robust,!--embree-non-robust", args->embree_robust, "Embree engines: build with RTC_SCENE_FLAG_ROBUST, the watertight guarantee our engines give (default on; --embree-non-robust measures Embree's faster mode)");
     cmd->add_option("--json", args->json, "write the results as JSON to this file");
     cmd->add_option("--markdown", args->markdown, "write the table as Markdown to this file");
     return [args] {
@@ -75,6 +87,8 @@ std::function<void()> add_bench_command(CLI::App& app) {
         bo.threads = args->scene.threads;
         bo.repeats = args->repeats;
         bo.progress = true;
+        bo.anchor_engines = args->anchor_engines;
+        bo.engine_options.embree_robust = args->embree_robust;
         if (args->mlrta_frustum != "inverse" && args->mlrta_frustum != "direct")
             throw Error("--mlrta-frustum must be inverse or direct, not '" + args->mlrta_frustum + "'");
         args->mlrta.frustum_test = args->mlrta_frustum == "direct" ? FrustumTest::direct : FrustumTest::inverse;

@@ -22,6 +22,7 @@ struct TradeArgs {
     int repeats = 3;
     double min_seconds = 0.5;
     double vlf_budget_millions = 40.0;
+    bool anchor_engines = true;
 };
 
 // Creates the output folder and checks that a file can be written in it, before any long work.
@@ -45,7 +46,14 @@ std::string trade_header(const workload::TradeResult& r) {
                   "%d passes and %g s (each pass followed by one of embree16)\n",
                   r.scene.c_str(), r.triangles, workload::to_string(r.mode), r.width, r.height, r.threads,
                   r.threads == 1 ? "" : "s", r.rays, r.repeats, r.min_seconds);
-    return buf;
+    std::string header = buf;
+    if (const workload::TradeRow* a = r.anchor()) {
+        std::snprintf(buf, sizeof buf, "anchor: %s, the fastest Embree engine (%.2fx embree16); %zu reference%s on the Pareto front\n",
+                      a->setting.engine.c_str(), a->x_reference, r.references_on_front(),
+                      r.references_on_front() == 1 ? "" : "s");
+        header += buf;
+    }
+    return header;
 }
 
 }  // namespace
@@ -69,6 +77,7 @@ std::function<void()> add_trade_command(CLI::App& app) {
                     "skip VLF-RT settings whose rays need more than this many million triangle-PSFs "
                     "(triangles x parallel subfields to build)")
         ->capture_default_str()->check(CLI::PositiveNumber);
+    cmd->add_flag("--anchor-engines,!--no-anchor-engines", args->anchor_engines, "sweep every Embree engine even when --engines leaves it out, so that the anchor is Embree at its best (default on)");
     cmd->add_option("--out", args->out, "folder for trade.csv and trade.png")->capture_default_str();
     return [args] {
         const workload::WorkloadConfig wc = workload_config(args->scene, args->rays);
@@ -81,6 +90,7 @@ std::function<void()> add_trade_command(CLI::App& app) {
         to.min_seconds = args->min_seconds;
         to.vlf_budget = args->vlf_budget_millions * 1e6;
         to.progress = true;
+        to.anchor_engines = args->anchor_engines;
         check_output_folder(args->out);
         const workload::Workload w = workload::make_workload(wc);
         const workload::TradeResult result = workload::run_trade(w, to);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "beamtrace/error.hpp"
+#include "oracle/embree_ray_fill.hpp"
 
 namespace beamtrace::oracle {
 
@@ -44,6 +45,7 @@ struct EmbreeOracle::Impl {
     std::size_t embree_triangles = 0;
     double build_seconds = 0.0;
     std::size_t memory_bytes = 0;
+    bool robust = true;
 
     // Bytes currently allocated by the device, kept by the memory monitor callback (which Embree may
     // call from its build threads concurrently).
@@ -83,83 +85,7 @@ struct EmbreeOracle::Impl {
     }
 };
 
-namespace {
-
-// A ray as Embree accepts it: segment inside [0, inf], t measured from the (possibly moved) origin.
-struct EmbreeSegment {
-    Float3 org, dir;
-    float tnear = 0.0f, tfar = 0.0f;
-    float shift = 0.0f;    // caller's t = Embree's t / t_scale + shift
-    float t_scale = 1.0f;  // a power of two: the direction was divided by it, so Embree's t is multiplied
-};
-
-// Embree asserts (ray.valid()) that no origin or direction component exceeds FLT_LARGE = 1.844e18
-// in magnitude; larger values abort the process.
-constexpr float kEmbreeLargest = 1.844e18f;
-// Directions are scaled by a power of two to at most this (exact, t is scaled back).
-constexpr float kLargestDirection = 1.152921504606846976e18f;  // 2^60
-
-bool finite(Float3 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
-float largest(Float3 p) { return std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}); }
-
-// The caller's t of a hit Embree reports at t.
-float caller_t(const EmbreeSegment& s, float t) { return t / s.t_scale + s.shift; }
-
-std::optional<EmbreeSegment> to_embree(const Ray& r) {
-    if (!finite(r.org) || !finite(r.dir)) return std::nullopt;
-    if (r.dir.x == 0.0f && r.dir.y == 0.0f && r.dir.z == 0.0f) return std::nullopt;
-    if (std::isnan(r.tnear) || std::isnan(r.tfar) || !std::isfinite(r.tnear)) return std::nullopt;
-    if (!(r.tnear <= r.tfar)) return std::nullopt;
-    EmbreeSegment s{r.org, r.dir, r.tnear, r.tfar, 0.0f};
-    if (r.tnear < 0.0f) {
-        const double tn = r.tnear;
-        s.org = Float3{float(r.org.x + tn * r.dir.x), float(r.org.y + tn * r.dir.y), float(r.org.z + tn * r.dir.z)};
-        if (!finite(s.org)) return std::nullopt;
-        s.tnear = 0.0f;
-        s.tfar = std::isinf(r.tfar) ? r.tfar : float(double(r.tfar) - tn);
-        s.shift = r.tnear;
-    }
-    // Beyond Embree's range: an origin cannot be moved there without changing the ray, so such rays
-    // report no hit; a direction is scaled down by a power of two (t scaled up, exactly).
-    if (largest(s.org) > kEmbreeLargest) return std::nullopt;
-    if (largest(s.dir) > kLargestDirection) {
-        int exponent = 0;
-        std::frexp(largest(s.dir) / kLargestDirection, &exponent);
-        s.t_scale = std::ldexp(1.0f, exponent);
-        s.dir = s.dir * (1.0f / s.t_scale);
-        s.tnear = s.tnear * s.t_scale;
-        s.tfar = s.tfar * s.t_scale;
-    }
-    return s;
-}
-
-void fill_ray(RTCRay& out, const EmbreeSegment& s) {
-    out.org_x = s.org.x; out.org_y = s.org.y; out.org_z = s.org.z;
-    out.dir_x = s.dir.x; out.dir_y = s.dir.y; out.dir_z = s.dir.z;
-    out.tnear = s.tnear; out.tfar = s.tfar;
-    out.time = 0.0f;
-    out.mask = 0xFFFFFFFFu;
-    out.id = 0;
-    out.flags = 0;
-}
-
-template <class Ray16>
-void fill_lane(Ray16& out, int i, const EmbreeSegment& s) {
-    out.org_x[i] = s.org.x; out.org_y[i] = s.org.y; out.org_z[i] = s.org.z;
-    out.dir_x[i] = s.dir.x; out.dir_y[i] = s.dir.y; out.dir_z[i] = s.dir.z;
-    out.tnear[i] = s.tnear; out.tfar[i] = s.tfar;
-    out.time[i] = 0.0f;
-    out.mask[i] = 0xFFFFFFFFu;
-    out.id[i] = static_cast<unsigned>(i);
-    out.flags[i] = 0;
-}
-
-// Values for lanes Embree is told to ignore: a well-formed ray all the same.
-const EmbreeSegment kIdleLane{{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}, 0.0f, 0.0f, 0.0f};
-
-}  // namespace
-
-EmbreeOracle::EmbreeOracle(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+EmbreeOracle::EmbreeOracle(const Scene& scene, const EmbreeSceneOptions& options) : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     const auto start = std::chrono::steady_clock::now();
 
@@ -172,7 +98,8 @@ EmbreeOracle::EmbreeOracle(const Scene& scene) : impl_(std::make_unique<Impl>())
 
     m.scene = rtcNewScene(m.device);
     m.check("rtcNewScene");
-    rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);
+    m.robust = options.robust;
+    rtcSetSceneFlags(m.scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
     rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_HIGH);
     m.check("scene set-up");
 
@@ -241,7 +168,7 @@ Hit EmbreeOracle::intersect1(const Ray& ray) const {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(impl_->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return Hit{};
-    return Hit{caller_t(*s, rh.ray.tfar), impl_->triangle_id(rh.hit.primID), rh.hit.u, rh.hit.v};
+    return Hit{s->caller_t(rh.ray.tfar), impl_->triangle_id(rh.hit.primID), rh.hit.u, rh.hit.v};
 }
 
 bool EmbreeOracle::occluded1(const Ray& ray) const {
@@ -276,7 +203,7 @@ void EmbreeOracle::intersect16(const Packet16& packet, PacketHits16& hits) const
         if (valid[i] == 0 || rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
             hits.set_hit(i, Hit{});
         } else {
-            hits.set_hit(i, Hit{caller_t(lane[i], rh.ray.tfar[i]), impl_->triangle_id(rh.hit.primID[i]),
+            hits.set_hit(i, Hit{lane[i].caller_t(rh.ray.tfar[i]), impl_->triangle_id(rh.hit.primID[i]),
                                  rh.hit.u[i], rh.hit.v[i]});
         }
     }
@@ -303,5 +230,8 @@ std::uint32_t EmbreeOracle::occluded16(const Packet16& packet) const {
 double EmbreeOracle::build_seconds() const { return impl_->build_seconds; }
 std::size_t EmbreeOracle::memory_bytes() const { return impl_->memory_bytes; }
 std::size_t EmbreeOracle::embree_triangle_count() const { return impl_->embree_triangles; }
+bool EmbreeOracle::robust() const { return impl_->robust; }
+RTCSceneTy* EmbreeOracle::native_scene() const { return impl_->scene; }
+std::uint32_t EmbreeOracle::triangle_id(unsigned embree_prim) const { return impl_->triangle_id(embree_prim); }
 
 }  // namespace beamtrace::oracle

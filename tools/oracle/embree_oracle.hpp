@@ -32,14 +32,24 @@
 #include "beamtrace/ray.hpp"
 #include "beamtrace/scene.hpp"
 
+struct RTCSceneTy;  // Embree's scene (RTCScene is a pointer to it); declared here so that no Embree header leaks
+
 namespace beamtrace::oracle {
+
+struct EmbreeSceneOptions {
+    // RTC_SCENE_FLAG_ROBUST: watertight triangle tests, the guarantee our own engines give. Off only
+    // to measure what Embree's faster, non-robust mode gains (docs/oracle.md); the oracle of the
+    // tests and of every comparison is always robust.
+    bool robust = true;
+};
 
 class EmbreeOracle {
 public:
-    // Builds an Embree scene (RTC_SCENE_FLAG_ROBUST, RTC_BUILD_QUALITY_HIGH) from a copy of the
-    // scene's vertices and indices; nothing is shared with the Scene afterwards. Throws
-    // beamtrace::Error with Embree's error text if the device, the scene or the build fails.
-    explicit EmbreeOracle(const Scene& scene);
+    // Builds an Embree scene (RTC_SCENE_FLAG_ROBUST unless options say otherwise,
+    // RTC_BUILD_QUALITY_HIGH) from a copy of the scene's vertices and indices; nothing is shared with
+    // the Scene afterwards. Throws beamtrace::Error with Embree's error text if the device, the scene
+    // or the build fails.
+    explicit EmbreeOracle(const Scene& scene, const EmbreeSceneOptions& options = {});
     ~EmbreeOracle();
     EmbreeOracle(EmbreeOracle&&) noexcept;
     EmbreeOracle& operator=(EmbreeOracle&&) noexcept;
@@ -63,6 +73,13 @@ public:
     std::size_t memory_bytes() const;
     // Triangles handed to Embree (the scene's triangles minus the degenerate ones).
     std::size_t embree_triangle_count() const;
+    // Whether the scene was built with RTC_SCENE_FLAG_ROBUST.
+    bool robust() const;
+
+    // For callers that issue Embree queries themselves (EmbreeNativeRays: rays prebuilt in
+    // Embree's layouts): the committed scene, and the scene's triangle id of an Embree primID.
+    RTCSceneTy* native_scene() const;
+    std::uint32_t triangle_id(unsigned embree_prim) const;
 
 private:
     struct Impl;

@@ -5,13 +5,14 @@
 namespace beamtrace::workload {
 
 const std::vector<std::string>& engine_names() {
-    static const std::vector<std::string> names = {"embree1", "embree16", "brute", "kd1", "kd16", "mlrta", "vlf", "vlf-fast"};
+    static const std::vector<std::string> names = {"embree1", "embree16", "embree-stream", "brute", "kd1", "kd16", "mlrta", "vlf", "vlf-fast"};
     return names;
 }
 
 std::unique_ptr<Engine> make_engine(const std::string& name) {
-    if (name == "embree1") return make_embree_engine(false);
-    if (name == "embree16") return make_embree_engine(true);
+    if (name == "embree1") return make_embree_engine(oracle::EmbreeLayout::single);
+    if (name == "embree16") return make_embree_engine(oracle::EmbreeLayout::packet16);
+    if (name == "embree-stream") return make_embree_engine(oracle::EmbreeLayout::stream);
     if (name == "brute") return make_brute_engine();
     if (name == "kd1") return make_kd1_engine();
     if (name == "kd16") return make_kd16_engine();

@@ -2,11 +2,12 @@
 // Constructors of the engines, one per file; make_engine() (engine_registry.cpp) picks by name.
 #include <memory>
 
+#include "oracle/embree_native_rays.hpp"
 #include "workload/engine.hpp"
 
 namespace beamtrace::workload {
 
-std::unique_ptr<Engine> make_embree_engine(bool packets);
+std::unique_ptr<Engine> make_embree_engine(oracle::EmbreeLayout layout);
 std::unique_ptr<Engine> make_brute_engine();
 std::unique_ptr<Engine> make_kd1_engine();
 std::unique_ptr<Engine> make_kd16_engine();

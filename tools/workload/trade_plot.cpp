@@ -56,7 +56,8 @@ struct Style {
 };
 Style engine_style(const std::string& engine) {
     static const std::map<std::string, Style> styles = {
-        {"embree1", {"#7f7f7f", 4}},  {"embree16", {"#404040", 5}}, {"brute", {"#bcbd22", 3}},
+        {"embree1", {"#7f7f7f", 4}},  {"embree16", {"#404040", 5}}, {"embree-stream", {"#a0a0a0", 8}},
+        {"brute", {"#bcbd22", 3}},
         {"kd1", {"#1f77b4", 7}},      {"kd16", {"#17becf", 9}},     {"mlrta", {"#2ca02c", 11}},
         {"vlf", {"#d62728", 13}},     {"vlf-fast", {"#ff7f0e", 15}}};
     const auto it = styles.find(engine);
@@ -162,13 +163,17 @@ TradePlot trade_plot(const TradeResult& r) {
     s += "set title " + quoted(head) + "\n";
     s += "set xlabel 'mismatches per ray (log scale; 0 = no mismatch, engines side by side)' offset 0,0.3\n";
     s += "set ylabel " + quoted(std::string("Mrays/s at embree16's best pass") + (log_y ? " (log scale)" : "")) + "\n";
-    s += "set y2label 'speed / embree16 (alternating passes)'\n";
+    const TradeRow* anchor = r.anchor();
+    s += "set y2label " + quoted(anchor ? "speed / anchor (" + anchor->setting.engine + ", alternating passes)"
+                                        : std::string("speed / embree16 (alternating passes)")) + "\n";
     s += "set ytics nomirror\n";
 
     s += "set logscale x\n";
-    // The right axis shows the same heights as multiples of embree16 (gnuplot 5.4 cannot link a log
-    // axis, so both ranges are set).
-    const double reference = r.reference_mrays_per_s > 0.0 ? r.reference_mrays_per_s : 1.0;
+    // The right axis shows the same heights as multiples of the anchor's speed (gnuplot 5.4 cannot
+    // link a log axis, so both ranges are set).
+    const double reference = anchor && r.steady_mrays_per_s(*anchor) > 0.0 ? r.steady_mrays_per_s(*anchor)
+                             : r.reference_mrays_per_s > 0.0               ? r.reference_mrays_per_s
+                                                                           : 1.0;
     if (log_y) s += "set logscale y\nset logscale y2\n";
     s += "set yrange [" + number(y_low) + ":" + number(y_high) + "]\n";
     s += "set y2range [" + number(y_low / reference) + ":" + number(y_high / reference) + "]\n";
@@ -186,6 +191,19 @@ TradePlot trade_plot(const TradeResult& r) {
     s += "set arrow from " + number(gap) + ", graph 0 to " + number(gap) +
          ", graph 1 nohead dashtype 3 linecolor rgb '#b0b0b0'\n";
     s += "set grid ytics lc rgb '#e0e0e0'\n";
+    if (anchor) {
+        // The anchor's speed across the whole plot: every setting below it is slower than Embree at its best.
+        const double y = r.steady_mrays_per_s(*anchor);
+        s += "set arrow from graph 0, first " + number(y) + " to graph 1, first " + number(y) +
+             " nohead dashtype 2 linewidth 2 linecolor rgb '#404040'\n";
+        char text[160];
+        std::snprintf(text, sizeof text, "anchor: %s, the fastest Embree engine (%zu of %zu references on the front)",
+                      anchor->setting.engine.c_str(), r.references_on_front(),
+                      std::size_t(std::count_if(rows.begin(), rows.end(), [](const TradeRow* row) {
+                          return is_reference_engine(row->setting.engine);
+                      })));
+        s += "set label " + quoted(text) + " at graph 0.01, first " + number(y) + " offset 0,0.6 font ',9' textcolor rgb '#404040'\n";
+    }
     s += "set key outside bottom center horizontal box\nset bmargin 7\n";
     s += "plot ";
     std::vector<std::string> parts;

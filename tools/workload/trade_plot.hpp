@@ -15,8 +15,9 @@ std::vector<std::size_t> pareto_front(const std::vector<double>& error, const st
 
 // The gnuplot script body and data files of the plot (report::plot_with_gnuplot takes both).
 // x: mismatches per ray in percent on a log scale, settings without mismatches drawn at a "0" tick
-// left of the smallest decade; y: Mrays/s (log scale when the speeds span more than 10x). The
-// reference engines are drawn apart and are not on the front.
+// left of the smallest decade; y: Mrays/s (log scale when the speeds span more than 10x), the right
+// axis as multiples of the anchor, whose speed is a dashed line across the plot. The front takes in
+// the references (Embree): an exact Embree point faster than one of ours dominates it.
 struct TradePlot {
     std::string script;
     std::vector<std::pair<std::string, std::string>> data_files;

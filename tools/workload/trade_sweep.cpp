@@ -102,7 +102,22 @@ std::size_t psfs_needed(const RaySet& rays, int directions) {
 
 }  // namespace
 
-bool is_reference_engine(const std::string& engine) { return engine == "embree1" || engine == "embree16"; }
+bool is_reference_engine(const std::string& engine) { return is_anchor_engine(engine); }
+
+const TradeRow* TradeResult::anchor() const {
+    const TradeRow* best = nullptr;
+    for (const TradeRow& r : rows)
+        if (r.measured() && is_reference_engine(r.setting.engine) && r.x_reference > 0.0 &&
+            (!best || r.x_reference > best->x_reference))
+            best = &r;
+    return best;
+}
+
+std::size_t TradeResult::references_on_front() const {
+    return std::size_t(std::count_if(rows.begin(), rows.end(), [](const TradeRow& r) {
+        return r.pareto && is_reference_engine(r.setting.engine);
+    }));
+}
 
 double TradeRow::error_rate() const {
     const std::uint64_t rays = result.oracle.total();
@@ -115,7 +130,8 @@ std::vector<TradeSetting> trade_settings(const Workload& w, const TradeOptions& 
         for (const std::string& e : engine_names())
             if (e != "brute") engines.push_back(e);
     for (const std::string& e : engines) make_engine(e);  // unknown names fail here
-    const std::set<std::string> wanted(engines.begin(), engines.end());
+    std::set<std::string> wanted(engines.begin(), engines.end());
+    if (options.anchor_engines) wanted.insert(anchor_engines().begin(), anchor_engines().end());
 
     std::vector<TradeSetting> out;
     const EngineOptions base;
@@ -125,6 +141,7 @@ std::vector<TradeSetting> trade_settings(const Workload& w, const TradeOptions& 
     };
     add("embree1", "reference", "embree1", base);
     add("embree16", "reference", "embree16", base);
+    add("embree-stream", "reference", "embree-stream", base);
     for (const auto& [suffix, rules] : kd_variants()) {
         EngineOptions o = base;
         o.kd_rules = rules;
@@ -226,11 +243,16 @@ TradeResult run_trade(const Workload& w, const TradeOptions& options) {
     }
     if (reference_best < 1e300 && reference_best > 0.0)
         result.reference_mrays_per_s = double(w.rays.ray_count) / reference_best / 1e6;
+    if (const TradeRow* anchor = result.anchor()) {
+        const double a = anchor->x_reference;
+        for (TradeRow& r : result.rows)
+            if (r.measured()) r.x_anchor = r.x_reference / a;
+    }
     std::vector<std::size_t> candidates;
     std::vector<double> errors, speeds;
     for (std::size_t i = 0; i < result.rows.size(); ++i) {
         const TradeRow& r = result.rows[i];
-        if (!r.measured() || is_reference_engine(r.setting.engine)) continue;
+        if (!r.measured()) continue;
         candidates.push_back(i);
         errors.push_back(r.error_rate());
         speeds.push_back(r.x_reference);
@@ -242,11 +264,11 @@ TradeResult run_trade(const Workload& w, const TradeOptions& options) {
 std::string to_csv(const TradeResult& r) {
     std::string csv =
         "engine,settings,mrays_per_s,x_embree16,trace_seconds,build_seconds,memory_bytes,rays,agree,ties,grazing,mismatch,"
-        "error_rate,mean_rel_t_error,max_rel_t_error,ao_occlusion_mae,pareto,note\n";
+        "error_rate,mean_rel_t_error,max_rel_t_error,ao_occlusion_mae,pareto,note,x_anchor\n";
     for (const TradeRow& row : r.rows) {
         csv += row.setting.engine + "," + row.setting.settings + ",";
         if (!row.measured()) {
-            csv += ",,,,,,,,,,,,,,0," + row.setting.skipped + "\n";
+            csv += ",,,,,,,,,,,,,,0," + row.setting.skipped + ",\n";
             continue;
         }
         const EngineResult& e = row.result;
@@ -258,22 +280,25 @@ std::string to_csv(const TradeResult& r) {
                number(row.error_rate()) + "," + (primary ? number(row.t_error.mean) : "") + "," +
                (primary ? number(row.t_error.max) : "") + "," +
                (r.mode == Mode::ao ? number(row.occlusion_mae) : "") + "," + (row.pareto ? "1" : "0") + "," +
-               (is_reference_engine(row.setting.engine) ? "reference" : "") + "\n";
+               (is_reference_engine(row.setting.engine) ? "reference" : "") + "," +
+               (r.anchor() ? number(row.x_anchor) : "") + "\n";
     }
     return csv;
 }
 
 report::Table to_table(const TradeResult& r) {
     const bool primary = r.mode == Mode::primary, ao = r.mode == Mode::ao;
-    report::Table t({"setting", "Mrays/s", "x embree16", "build s", "memory MB", "mismatch", "error %",
+    report::Table t({"setting", "Mrays/s", "x embree16", "x anchor", "build s", "memory MB", "mismatch", "error %",
                      primary ? "mean |dt|/t" : (ao ? "AO MAE" : "-"), "Pareto"});
     for (const TradeRow& row : r.rows) {
         if (!row.measured()) {
-            t.add_row({row.setting.label, "-", "-", "-", "-", "-", "-", "-", "skipped"});
+            t.add_row({row.setting.label, "-", "-", "-", "-", "-", "-", "-", "-", "skipped"});
             continue;
         }
         const EngineResult& e = row.result;
-        t.add_row({row.setting.label, fixed(e.mrays_per_s, 3), fixed(row.x_reference, 2), fixed(e.build_seconds, 3),
+        const bool is_anchor = &row == r.anchor();
+        t.add_row({row.setting.label + (is_anchor ? " (anchor)" : ""), fixed(e.mrays_per_s, 3), fixed(row.x_reference, 2),
+                   r.anchor() ? fixed(row.x_anchor, 2) : "-", fixed(e.build_seconds, 3),
                    fixed(double(e.memory_bytes) / 1e6, 1), std::to_string(e.oracle.mismatch),
                    number(100.0 * row.error_rate()),
                    primary ? number(row.t_error.mean) : (ao ? number(row.occlusion_mae) : "-"),

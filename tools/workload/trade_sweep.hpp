@@ -35,15 +35,18 @@ struct TradeOptions {
     // need (counted from the rays' directions) exceed this: about 0.35 s of building per million.
     double vlf_budget = 40e6;
     bool progress = false;             // progress bars on stderr (only drawn on a terminal)
+    // Sweep every Embree engine (embree1, embree16, embree-stream) even when `engines` leaves it out,
+    // so that the anchor, the fastest of them, is Embree at its best.
+    bool anchor_engines = true;
 };
 
-// The settings swept for this workload, in the order they are run: embree1, embree16, then kd1
+// The settings swept for this workload, in the order they are run: embree1, embree16, embree-stream, then kd1
 // (rules and constants), kd16, mlrta (beam settings when the rays form an image), vlf and
 // vlf-fast (l in {33, 129, 513} x n in {64, 128} x d in {0, 4}), keeping the given engines only.
 // Throws beamtrace::Error for unknown engine names.
 std::vector<TradeSetting> trade_settings(const Workload& workload, const TradeOptions& options);
 
-// The engines the settings are measured against: their error is zero by construction.
+// The engines the settings are measured against (the Embree engines): their error is zero by construction.
 bool is_reference_engine(const std::string& engine);
 
 struct TradeRow {
@@ -52,9 +55,11 @@ struct TradeRow {
     // Speed over embree16's, each timed pass of the setting followed by one of embree16 (the best
     // of each), so that a change of machine load while the sweep runs moves both alike.
     double x_reference = 0.0;
+    // Speed over the anchor's (the fastest reference row): x_reference / the anchor's x_reference.
+    double x_anchor = 0.0;
     RelativeTError t_error;       // primary mode
     double occlusion_mae = 0.0;   // ao mode
-    bool pareto = false;          // on the Pareto front of the library's own settings
+    bool pareto = false;          // on the Pareto front of every measured row, the references included
 
     bool measured() const { return setting.skipped.empty(); }
     // mismatch / rays: the x axis of the plot (grazing and ties are not errors here).
@@ -70,6 +75,10 @@ struct TradeResult {
     std::size_t rays = 0;
     double reference_mrays_per_s = 0.0;  // embree16's best pass over the whole sweep
     std::vector<TradeRow> rows;
+    // The anchor: the measured reference row with the highest x_reference (none if no reference row
+    // was measured; x_anchor is then 0 everywhere).
+    const TradeRow* anchor() const;
+    std::size_t references_on_front() const;
 
     // The speed the plot shows: x_reference times reference_mrays_per_s (Mrays/s at the load of
     // embree16's best pass).
@@ -77,8 +86,9 @@ struct TradeResult {
 };
 
 // Measures every setting of trade_settings() on the workload (one engine alive at a time, besides
-// the embree16 every pass alternates with) and marks the Pareto front (highest x_reference for the
-// least error rate) among the library's own engines.
+// the embree16 every pass alternates with, timed with both of its context flags), sets x_anchor and
+// marks the Pareto front (highest x_reference for the least error rate) over every measured row: an
+// exact Embree row faster than a setting of ours dominates it.
 TradeResult run_trade(const Workload& workload, const TradeOptions& options);
 
 // Header and one line per setting (skipped ones included, with empty measurements and the reason).
