@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -57,9 +58,10 @@ TEST(TradeCli, WritesTheCsvAndThePlot) {
     const std::vector<std::string> header = fields(lines[0]);
     for (const char* name : {"engine", "settings", "mrays_per_s", "x_embree16", "build_seconds", "memory_bytes",
                                "agree", "ties", "grazing", "mismatch", "error_rate", "mean_rel_t_error",
-                               "max_rel_t_error", "ao_occlusion_mae", "pareto", "note"})
+                               "max_rel_t_error", "ao_occlusion_mae", "pareto", "note", "x_anchor"})
         column(header, name);
-    int vlf_fast = 0, pareto = 0;
+    int vlf_fast = 0, pareto = 0, anchors = 0;
+    double fastest_reference = 0.0;
     for (std::size_t i = 1; i < lines.size(); ++i) {
         const std::vector<std::string> row = fields(lines[i]);
         ASSERT_EQ(row.size(), header.size()) << lines[i];
@@ -68,12 +70,31 @@ TEST(TradeCli, WritesTheCsvAndThePlot) {
         pareto += row[column(header, "pareto")] == "1";
         EXPECT_GT(std::stod(row[column(header, "mrays_per_s")]), 0.0) << lines[i];
         EXPECT_EQ(std::stoull(row[column(header, "rays")]), 4096u) << lines[i];  // every ray classified
+        // x_anchor: the speed over the fastest Embree row's, which is 1 for that row.
+        const double x_anchor = std::stod(row[column(header, "x_anchor")]);
+        const double x_embree16 = std::stod(row[column(header, "x_embree16")]);
+        EXPECT_GT(x_anchor, 0.0) << lines[i];
+        if (row[column(header, "note")] == "reference") {
+            EXPECT_LE(x_anchor, 1.0 + 1e-9) << lines[i];
+            anchors += std::fabs(x_anchor - 1.0) < 1e-9;
+            fastest_reference = std::max(fastest_reference, x_embree16);
+        }
         if (engine != "vlf-fast") {
             EXPECT_EQ(row[column(header, "mismatch")], "0") << lines[i];  // the exact engines
         }
     }
     EXPECT_EQ(vlf_fast, 12);  // l x n x d
     EXPECT_GE(pareto, 1);
+    EXPECT_EQ(anchors, 1);
+    EXPECT_GT(fastest_reference, 0.0);
+    for (std::size_t i = 1; i < lines.size(); ++i) {  // x_anchor = x_embree16 / the anchor's x_embree16
+        const std::vector<std::string> row = fields(lines[i]);
+        EXPECT_NEAR(std::stod(row[column(header, "x_anchor")]),
+                    std::stod(row[column(header, "x_embree16")]) / fastest_reference,
+                    1e-4 * std::stod(row[column(header, "x_anchor")]))
+            << lines[i];
+    }
+    EXPECT_NE(r.output.find("anchor: "), std::string::npos) << r.output;
     ASSERT_TRUE(fs::exists(out / "trade.png"));
     EXPECT_GT(fs::file_size(out / "trade.png"), 1000u);
     std::ifstream png(out / "trade.png", std::ios::binary);
@@ -88,7 +109,8 @@ TEST(TradeCli, AoRowsCarryTheOcclusionError) {
                                 "--engines embree1,kd1,vlf-fast --out " + out.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const std::vector<std::string> lines = read_lines(out / "trade.csv");
-    ASSERT_EQ(lines.size(), 1u + 1u + 8u + 12u);  // header, embree1, kd1 variants, vlf-fast grid
+    // header, the three Embree engines (two added for the anchor), kd1 variants, vlf-fast grid
+    ASSERT_EQ(lines.size(), 1u + 3u + 8u + 12u);
     const std::vector<std::string> header = fields(lines[0]);
     for (std::size_t i = 1; i < lines.size(); ++i) {
         const std::vector<std::string> row = fields(lines[i]);

@@ -108,13 +108,15 @@ TEST(Engines, BruteRefusesLargeScenes) {
 namespace {
 
 // One timed pass of `engines` on primary rays of a size x size image of `scene`.
-BenchResult bench_once(const std::string& scene, int size, const std::vector<std::string>& engines) {
+BenchResult bench_once(const std::string& scene, int size, const std::vector<std::string>& engines,
+                       bool anchor_engines = true) {
     WorkloadConfig config;
     config.scene = scene;
     config.width = config.height = size;
     BenchOptions options;
     options.engines = engines;
     options.repeats = 1;
+    options.anchor_engines = anchor_engines;
     return run_bench(make_workload(config), options);
 }
 
@@ -137,7 +139,50 @@ TEST(Bench, ResultsHaveTheJsonContract) {
     EXPECT_EQ(j["rays"], 256);
     EXPECT_EQ(j["engines"]["kd1"]["hits"], j["engines"]["embree1"]["hits"]);
     EXPECT_TRUE(j["engines"]["kd1"]["stats"].contains("inner_steps_per_ray"));
-    EXPECT_EQ(to_table(r).rows(), 4u);
+    EXPECT_EQ(to_table(r).rows(), 5u);  // the four asked for and embree-stream, added for the anchor
+}
+
+TEST(Bench, TheAnchorIsTheFastestEmbreeEngineAndEveryEngineIsMeasuredAgainstIt) {
+    const BenchResult r = bench_once("tetra:3", 32, {"kd16", "embree16"});
+    const nlohmann::json j = to_json(r);
+    ASSERT_TRUE(j.contains("anchor"));
+    ASSERT_TRUE(j["anchor"].is_object());
+    // Every Embree engine runs (the missing ones are added), each timed with both context flags.
+    double fastest = 0.0;
+    std::string fastest_name;
+    for (const std::string& name : anchor_engines()) {
+        ASSERT_TRUE(j["engines"].contains(name)) << name;
+        const auto& e = j["engines"][name];
+        const auto& s = e["stats"];
+        for (const char* key : {"coherent_mrays_per_s", "incoherent_mrays_per_s", "context_flag", "robust"})
+            ASSERT_TRUE(s.contains(key)) << name << " " << key;
+        EXPECT_EQ(s["robust"], true) << name;
+        const double coherent = s["coherent_mrays_per_s"], incoherent = s["incoherent_mrays_per_s"];
+        EXPECT_DOUBLE_EQ(e["mrays_per_s"].get<double>(), std::max(coherent, incoherent)) << name;
+        EXPECT_EQ(s["context_flag"], coherent >= incoherent ? "coherent" : "incoherent") << name;
+        EXPECT_EQ(e["oracle"]["mismatch"], 0) << name;
+        if (e["mrays_per_s"].get<double>() > fastest) fastest = e["mrays_per_s"], fastest_name = name;
+    }
+    EXPECT_EQ(j["anchor"]["engine"], fastest_name);
+    EXPECT_DOUBLE_EQ(j["anchor"]["mrays_per_s"].get<double>(), fastest);
+    EXPECT_EQ(j["anchor"]["context_flag"], j["engines"][fastest_name]["stats"]["context_flag"]);
+    for (const auto& [name, e] : j["engines"].items()) {
+        ASSERT_TRUE(e.contains("x_anchor")) << name;
+        EXPECT_DOUBLE_EQ(e["x_anchor"].get<double>(), e["mrays_per_s"].get<double>() / fastest) << name;
+        EXPECT_LE(e["x_anchor"].get<double>(), is_anchor_engine(name) ? 1.0 : 1e9) << name;
+    }
+    EXPECT_DOUBLE_EQ(j["engines"][fastest_name]["x_anchor"].get<double>(), 1.0);
+}
+
+TEST(Bench, WithoutEmbreeEnginesARunHasNoAnchor) {
+    const nlohmann::json j = to_json(bench_once("tetra:2", 16, {"kd1"}, false));
+    EXPECT_TRUE(j["anchor"].is_null());
+    EXPECT_EQ(j["engines"].size(), 1u);
+    EXPECT_TRUE(j["engines"]["kd1"]["x_anchor"].is_null());
+    // Asked not to add the missing ones, the anchor is the fastest Embree engine listed.
+    const nlohmann::json k = to_json(bench_once("tetra:2", 16, {"kd1", "embree1"}, false));
+    EXPECT_EQ(k["engines"].size(), 2u);
+    EXPECT_EQ(k["anchor"]["engine"], "embree1");
 }
 
 TEST(Bench, MlrtaStatsHaveTheJsonContract) {

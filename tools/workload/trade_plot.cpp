@@ -202,7 +202,7 @@ TradePlot trade_plot(const TradeResult& r) {
                       std::size_t(std::count_if(rows.begin(), rows.end(), [](const TradeRow* row) {
                           return is_reference_engine(row->setting.engine);
                       })));
-        s += "set label " + quoted(text) + " at graph 0.01, first " + number(y) + " offset 0,0.6 font ',9' textcolor rgb '#404040'\n";
+        s += "set label " + quoted(text) + " at graph 0.99, first " + number(y) + " right offset 0,0.6 font ',9' textcolor rgb '#404040'\n";
     }
     s += "set key outside bottom center horizontal box\nset bmargin 7\n";
     s += "plot ";
