@@ -12,7 +12,6 @@
 #include <nlohmann/json.hpp>
 
 #include "scenes/camera.hpp"
-#include "scenes/scene_source.hpp"
 #include "support/command_line.hpp"
 #include "workload/workload.hpp"
 
@@ -33,20 +32,12 @@ CommandResult run_embree_direct(const std::string& args) {
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 
-// A procedural scene written as an OFF file (9 significant digits: every float read back exactly).
-fs::path write_off(const std::string& spec, const fs::path& dir) {
-    const beamtrace::scenes::SceneSource s = beamtrace::scenes::load_scene(spec);
+// A procedural scene written as an OFF file by `beamtrace export`.
+fs::path export_off(const std::string& spec, const fs::path& dir) {
     const fs::path path = dir / "scene.off";
-    std::ofstream out(path);
-    const auto v = s.scene.vertices();
-    const auto idx = s.scene.indices();
-    out << "OFF\n" << v.size() << " " << idx.size() / 3 << " 0\n";
-    char line[128];
-    for (const auto& p : v) {
-        std::snprintf(line, sizeof line, "%.9g %.9g %.9g\n", double(p.x), double(p.y), double(p.z));
-        out << line;
-    }
-    for (std::size_t t = 0; t < idx.size(); t += 3) out << "3 " << idx[t] << " " << idx[t + 1] << " " << idx[t + 2] << "\n";
+    const CommandResult r = beamtrace::test::run_command("export --scene " + spec + " --out " + path.string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("camera "), std::string::npos) << r.output;
     return path;
 }
 
@@ -65,7 +56,7 @@ const std::string kCamera = "2.5,1.7,3.1,0.4,0.45,0.35,40";
 
 TEST(EmbreeDirect, FindsTheSameHitsAsTheBenchOnTheSameRays) {
     const fs::path dir = beamtrace::test::temp_dir("embree_direct_test");
-    const fs::path scene = write_off("sphereflake:2", dir);
+    const fs::path scene = export_off("sphereflake:2", dir);
     const std::string size = " --width " + std::to_string(kWidth) + " --height " + std::to_string(kHeight);
     const CommandResult direct = run_embree_direct("--scene " + scene.string() + " --camera " + kCamera + size +
                                                    " --repeats 1 --json " + (dir / "direct.json").string() +

@@ -14,6 +14,7 @@ namespace beamtrace::cli {
 std::function<void()> add_bench_command(CLI::App& app);
 std::function<void()> add_render_command(CLI::App& app);
 std::function<void()> add_trade_command(CLI::App& app);
+std::function<void()> add_export_command(CLI::App& app);
 
 // Options both commands share: --scene, --camera, --width, --height, --threads.
 struct SceneOptions {

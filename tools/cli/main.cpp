@@ -64,6 +64,7 @@ int main(int argc, char** argv) {
     const auto bench = beamtrace::cli::add_bench_command(app);
     const auto render = beamtrace::cli::add_render_command(app);
     const auto trade = beamtrace::cli::add_trade_command(app);
+    const auto export_scene = beamtrace::cli::add_export_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -77,6 +78,7 @@ int main(int argc, char** argv) {
     try {
         if (app.got_subcommand("bench")) bench();
         else if (app.got_subcommand("trade")) trade();
+        else if (app.got_subcommand("export")) export_scene();
         else render();
         return 0;
     } catch (const beamtrace::Error& e) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <sstream>
 #include <string_view>
@@ -76,6 +77,13 @@ Camera parse_camera(const std::string& text_in, const std::string& what) {
         throw Error(what + ": eye (EX,EY,EZ) and at (AX,AY,AZ) are the same point " + text(c.eye));
     check_fov(c.fovy_degrees, what);
     return c;
+}
+
+std::string format_camera(const Camera& c) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", double(c.eye.x), double(c.eye.y), double(c.eye.z),
+                  double(c.at.x), double(c.at.y), double(c.at.z), double(c.fovy_degrees));
+    return buf;
 }
 
 Float3 parse_point(const std::string& text_in, const std::string& what) {

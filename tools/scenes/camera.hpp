@@ -32,6 +32,10 @@ struct Camera {
 // eye == at, fov not in (0, 180). `what` starts the message (e.g. "--camera").
 Camera parse_camera(const std::string& text, const std::string& what = "camera");
 
+// The camera as parse_camera reads it ("EX,EY,EZ,AX,AY,AZ,FOVY", 9 significant digits: the same floats
+// read back).
+std::string format_camera(const Camera& camera);
+
 // A camera that looks at the box centre from outside its bounding sphere, from the front-right and a
 // little above (a 3/4 view), just far enough that the whole box is in view, with a small margin, for
 // images at least as wide as high. Throws beamtrace::Error for an empty or non-finite box.

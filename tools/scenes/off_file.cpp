@@ -2,6 +2,7 @@
 #include "scenes/off_file.hpp"
 
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 
@@ -169,6 +170,24 @@ MeshArrays parse_off(std::string_view text, const std::string& name) {
     }
     if (mesh.indices.empty()) throw Error(name + " contains no triangles");
     return mesh;
+}
+
+std::string format_off(const Scene& scene) {
+    const auto vertices = scene.vertices();
+    const auto indices = scene.indices();
+    std::string out = "OFF\n" + std::to_string(vertices.size()) + " " + std::to_string(indices.size() / 3) + " 0\n";
+    out.reserve(out.size() + vertices.size() * 40 + indices.size() * 9);
+    char line[160];
+    for (const Float3& p : vertices) {
+        std::snprintf(line, sizeof line, "%.9g %.9g %.9g\n", double(p.x), double(p.y), double(p.z));
+        out += line;
+    }
+    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+        std::snprintf(line, sizeof line, "3 %u %u %u\n", unsigned(indices[t]), unsigned(indices[t + 1]),
+                      unsigned(indices[t + 2]));
+        out += line;
+    }
+    return out;
 }
 
 }  // namespace beamtrace::scenes

@@ -5,6 +5,7 @@
 #include <string>
 #include <string_view>
 
+#include "beamtrace/scene.hpp"
 #include "scenes/mesh_arrays.hpp"
 
 namespace beamtrace::scenes {
@@ -22,5 +23,9 @@ MeshArrays parse_off(std::string_view text, const std::string& name);
 // Whether the text starts (after blank lines and comments) with an OFF keyword: such files go to
 // parse_off whatever their extension, so that Assimp never reads one.
 bool looks_like_off(std::string_view text);
+
+// The scene as OFF text: its vertices with 9 significant digits (parse_off reads back the same
+// floats) and one triangle per face, in the scene's order (so triangle ids stay the same).
+std::string format_off(const Scene& scene);
 
 }  // namespace beamtrace::scenes
