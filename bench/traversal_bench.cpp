@@ -25,8 +25,8 @@
 #include <vector>
 
 #include "beamtrace/kdtree.hpp"
-#include "common/isa.hpp"
-#include "workload/workload.hpp"
+#include "simd/isa.hpp"
+#include "rays/workload.hpp"
 
 #ifndef BEAMTRACE_SCENES_DIR
 #error "BEAMTRACE_SCENES_DIR must name the folder of the shared scene files"
@@ -76,12 +76,16 @@ Rays collect(const workload::RaySet& set, const KdTree& tree, Mode mode) {
     Rays r;
     for (const Packet16& p : set.packets)
         if (p.active != 0) r.packets.push_back(p);  // shadow sets keep empty packets where nothing was hit
-    beamtrace::TraversalCounters counters;
-    for (std::size_t slot = 0; slot < set.slots(); ++slot) {
-        if (!set.active(slot)) continue;
-        r.single.push_back(set.ray(slot));
-        if (mode == kPrimary) tree.intersect(r.single.back(), counters);
-        else tree.occluded(r.single.back(), counters);
+    beamtrace::QueryCounters counters;
+    for (std::size_t slot = 0; slot < set.slots(); ++slot)
+        if (set.active(slot)) r.single.push_back(set.ray(slot));
+    const beamtrace::QueryOptions counting{1, &counters};
+    if (mode == kPrimary) {
+        std::vector<Hit> hits(r.single.size());
+        tree.intersect(r.single, hits, counting);
+    } else {
+        std::vector<std::uint8_t> occluded(r.single.size());
+        tree.occluded(r.single, occluded, counting);
     }
     if (!r.single.empty()) {
         const double n = double(r.single.size());

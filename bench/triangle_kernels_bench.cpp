@@ -21,7 +21,7 @@
 
 #include "beamtrace/ray.hpp"
 #include "beamtrace/scene.hpp"
-#include "common/isa.hpp"
+#include "simd/isa.hpp"
 #include "common/triangle_kernels.hpp"
 #include "common/watertight_ray.hpp"
 #include "oracle/embree_oracle.hpp"

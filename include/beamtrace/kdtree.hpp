@@ -1,12 +1,15 @@
 #pragma once
 // A kd-tree over a Scene: SAH build with the construction rules of MLRTA (Reshetov et al. 2005,
-// section 3.1), single-ray closest-hit and occlusion traversal.
+// section 3.1), closest-hit and occlusion queries of single rays and of 4x4 packets.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <vector>
 
+#include "beamtrace/experimental.hpp"
+#include "beamtrace/query.hpp"
 #include "beamtrace/ray.hpp"
 #include "beamtrace/scene.hpp"
 #include "beamtrace/stats.hpp"
@@ -40,18 +43,9 @@ struct KdBuildRules {
     void validate() const;
 };
 
-// Counters of one traversal, gathered only by the counting variants (zero cost otherwise).
-struct TraversalCounters {
-    std::uint64_t rays = 0;
-    std::uint64_t inner_steps = 0;     // inner nodes visited
-    std::uint64_t leaves = 0;          // leaves visited
-    std::uint64_t triangle_tests = 0;  // ray/triangle tests performed
-
-    TraversalCounters& operator+=(const TraversalCounters& o) {
-        rays += o.rays; inner_steps += o.inner_steps; leaves += o.leaves; triangle_tests += o.triangle_tests;
-        return *this;
-    }
-};
+namespace detail {
+struct Access;  // the library's own access to the implementation (never part of the API)
+}
 
 class KdTree {
 public:
@@ -59,26 +53,36 @@ public:
     using Progress = std::function<void(double)>;
     static KdTree build(const Scene& scene, const KdBuildRules& rules = {}, const Progress& progress = {});
 
-    // Closest hit within [ray.tnear, ray.tfar]; no hit if none.
+    // The query contract (query.hpp). Single rays and spans of rays: single-ray traversal, front to
+    // back with early exit. Spans of packets: interval traversal of each 4x4 packet from the root
+    // (MLRTA's "no MLRT" path; lanes that do not travel together are traced one by one).
     Hit intersect(const Ray& ray) const;
-    // Any hit within [ray.tnear, ray.tfar].
     bool occluded(const Ray& ray) const;
-    // Same, accumulating counters.
-    Hit intersect(const Ray& ray, TraversalCounters& counters) const;
-    bool occluded(const Ray& ray, TraversalCounters& counters) const;
+    void intersect(std::span<const Ray> rays, std::span<Hit> hits, const QueryOptions& options = {}) const;
+    void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded, const QueryOptions& options = {}) const;
+    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, const QueryOptions& options = {}) const;
+    void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded,
+                  const QueryOptions& options = {}) const;
+
+    // The same tree with other research switches for its packet queries (experimental.hpp).
+    KdTree with_experimental(const KdExperimental& experimental) const;
+    const KdExperimental& experimental() const { return experimental_; }
 
     const Scene& scene() const;
     const KdBuildStats& stats() const;
+    // Bytes of the tables packet queries use (each leaf's geometry box), 0 until the first packet
+    // query (or prepare_packet_queries) makes them.
+    std::size_t packet_table_bytes() const;
+    // Makes those tables now (the first packet query does otherwise).
+    void prepare_packet_queries() const;
 
-    // Read-only view of the tree for other traversal algorithms in the library (beams, packets).
-    struct Impl;
-    const Impl& impl() const { return *impl_; }
-    // A tree assembled by other means (tests build trees node by node to reach exact cases).
-    static KdTree from_impl(std::shared_ptr<const Impl> impl) { return KdTree(std::move(impl)); }
+    struct Impl;  // opaque
 
 private:
+    friend struct detail::Access;
     explicit KdTree(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
     std::shared_ptr<const Impl> impl_;
+    KdExperimental experimental_;
 };
 
 // Brute force: every triangle against the ray. The reference the kd-tree is tested against.

@@ -31,6 +31,11 @@ struct Ray {
     float tfar = kInfinity;
 };
 
+// The same segment traced from its far end: origin org + tfar * dir, direction -dir, interval
+// [0, tfar - tnear] (the origin is rounded once). Shadow rays that end at a point light become rays
+// with a common origin.
+Ray reversed(const Ray& ray);
+
 // Closest hit. Barycentrics: the hit point is (1-u-v)*v0 + u*v1 + v*v2 (the usual convention of
 // production ray tracers, so hits compare directly with the oracle's in tests).
 struct Hit {

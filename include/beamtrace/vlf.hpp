@@ -16,11 +16,16 @@
 #include <optional>
 #include <span>
 
+#include "beamtrace/query.hpp"
 #include "beamtrace/ray.hpp"
 #include "beamtrace/scene.hpp"
 #include "beamtrace/vec.hpp"
 
 namespace beamtrace {
+
+namespace detail {
+struct Access;  // the library's own access to the implementation (never part of the API)
+}
 
 // The beam directions Omega_l: l unit directions spread evenly over the upper hemisphere (z >= 0).
 // Each stands for a line, so a direction d and -d share one PSF. Built as the grid points of an
@@ -49,22 +54,26 @@ public:
     int candidates_per_lookup() const;
     std::size_t memory_bytes() const;
 
-    struct Impl;
-    const Impl& impl() const { return *impl_; }
+    struct Impl;  // opaque
 
 private:
+    friend struct detail::Access;
     std::shared_ptr<const Impl> impl_;
 };
 
 enum class VlfMode { exact, fast };
-// The order in which a stream of packets is traced (see VisibilityField::occluded).
-enum class VlfOrder { input, psf };
+// The order in which a stream of packets is traced (see VisibilityField's span queries): as given,
+// binned by PSF, or automatic (binned for occlusion queries, whose secondary rays are incoherent;
+// as given for closest hits, whose packets are camera packets).
+enum class VlfOrder { input, psf, automatic };
 
 struct VlfOptions {
     int directions = DirectionSet::kDefaultCount;  // l
     int tiles = 128;                               // n: n x n tiles per PSF
     int depth = 4;                                 // d: tile-BSP depth, 0 = one leaf per tile
     bool eager = false;                            // build every PSF now (else each on first use)
+    VlfMode mode = VlfMode::exact;                 // of the query contract's calls
+    VlfOrder order = VlfOrder::automatic;          // of the query contract's span calls
     // The volume triangles may occupy, now and after dynamic updates. Default: the scene's box.
     std::optional<Box> bounds;
     // Throws beamtrace::Error naming the bad setting.
@@ -80,20 +89,6 @@ struct VlfStats {
     std::size_t memory_bytes = 0;    // built PSFs, direction table, the field's copy of the triangles
     std::size_t stream_bytes = 0;    // buffers of binned occlusion streams, kept for the next stream
     double build_seconds = 0.0;      // over every PSF built so far (lazy builds included)
-};
-
-// Work counters of queries (only the counting calls gather them).
-struct VlfCounters {
-    std::uint64_t rays = 0;
-    std::uint64_t tiles = 0;           // tiles visited (empty ones included)
-    std::uint64_t leaves = 0;          // tile-BSP leaves visited
-    std::uint64_t entries = 0;         // tile entries whose footprint was compared with the ray's
-    std::uint64_t triangle_tests = 0;  // ray/triangle tests (each triangle at most once per ray)
-    VlfCounters& operator+=(const VlfCounters& o) {
-        rays += o.rays; tiles += o.tiles; leaves += o.leaves; entries += o.entries;
-        triangle_tests += o.triangle_tests;
-        return *this;
-    }
 };
 
 // A 3x4 affine map p -> m * p + t (row-major m), applied to triangle corners in float.
@@ -116,26 +111,35 @@ public:
     VisibilityField(VisibilityField&&) noexcept;
     VisibilityField& operator=(VisibilityField&&) noexcept;
 
-    // Closest hit / any hit within [ray.tnear, ray.tfar]. Thread-safe (PSFs are built under a lock
-    // the first time a query needs them).
-    Hit intersect(const Ray& ray, VlfMode mode = VlfMode::exact) const;
-    bool occluded(const Ray& ray, VlfMode mode = VlfMode::exact) const;
-    Hit intersect(const Ray& ray, VlfMode mode, VlfCounters& counters) const;
-    bool occluded(const Ray& ray, VlfMode mode, VlfCounters& counters) const;
-    // 4x4 packets: the lookups of the 16 rays (direction, canonical ray, first tile) run as SIMD,
-    // then each ray walks its own tiles. Inactive rays report no hit. Returns bit i = ray i occluded.
+    // The query contract (query.hpp), in options().mode; span calls in options().order. Thread-safe
+    // (PSFs are built under a lock the first time a query needs them). Span calls run as streams:
+    // the lookups of 16 rays at a time (direction, canonical ray, first tile) run as SIMD, then each
+    // ray walks its own tiles, while the lookups, tile entries, blocks and first triangles of the
+    // next packets are fetched from memory; VlfOrder::psf first bins the rays by the PSF their
+    // lookup picks and, within a PSF, by the tile where they start (counting sorts), so that each
+    // PSF's tiles are read front to back while they are in the cache. QueryOptions::threads splits a
+    // stream into that many contiguous streams. With QueryOptions::counters the rays are counted
+    // one by one by the single-ray walk (the same walk code) instead.
+    Hit intersect(const Ray& ray) const;
+    bool occluded(const Ray& ray) const;
+    void intersect(std::span<const Ray> rays, std::span<Hit> hits, const QueryOptions& options = {}) const;
+    void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded, const QueryOptions& options = {}) const;
+    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, const QueryOptions& options = {}) const;
+    void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded,
+                  const QueryOptions& options = {}) const;
+
+    // The same queries in a given mode (and order), on one thread; inactive rays report no hit,
+    // bit i of an occlusion word = ray i occluded. The counting single-ray calls add to counters
+    // (rays, leaves, triangle_tests, vlf.tiles, vlf.entries).
+    Hit intersect(const Ray& ray, VlfMode mode) const;
+    bool occluded(const Ray& ray, VlfMode mode) const;
+    Hit intersect(const Ray& ray, VlfMode mode, QueryCounters& counters) const;
+    bool occluded(const Ray& ray, VlfMode mode, QueryCounters& counters) const;
     void intersect(const Packet16& packet, PacketHits16& hits, VlfMode mode = VlfMode::exact) const;
     std::uint32_t occluded(const Packet16& packet, VlfMode mode = VlfMode::exact) const;
-    // Many packets at once (a stream), one element of hits / occluded per packet, the same answers
-    // as the packets one by one. The packets are traced as a pipeline: while one packet walks, the
-    // lookups, tile entries, blocks and first triangles of the next ones are fetched from memory.
-    // VlfOrder::input traces the packets in the given order; VlfOrder::psf first bins the rays by
-    // the PSF their lookup picks and, within a PSF, by the tile where they start (counting sorts),
-    // and regroups them into packets, so that each PSF's tiles are read front to back while they
-    // are in the cache (incoherent secondary rays).
-    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, VlfMode mode = VlfMode::exact,
+    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, VlfMode mode,
                    VlfOrder order = VlfOrder::psf) const;
-    void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded, VlfMode mode = VlfMode::exact,
+    void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded, VlfMode mode,
                   VlfOrder order = VlfOrder::psf) const;
 
     // Builds every PSF not built yet (TBB, all cores), reporting progress in [0, 1].
@@ -156,9 +160,10 @@ public:
     const VlfOptions& options() const;
     VlfStats stats() const;
 
-    struct Impl;
+    struct Impl;  // opaque
 
 private:
+    friend struct detail::Access;
     std::unique_ptr<Impl> impl_;
 };
 

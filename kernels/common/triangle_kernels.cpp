@@ -1,7 +1,6 @@
-// Run-time choice of the triangle kernels, and the scalar set (the reference, lane by lane).
+// The scalar triangle kernels (the reference, lane by lane) and the run-time choice among the sets.
 #include "common/triangle_kernels.hpp"
 
-#include "beamtrace/error.hpp"
 #include "common/triangle_reference.hpp"
 
 namespace beamtrace {
@@ -36,23 +35,14 @@ void scalar_packet_x1(const WatertightPacket16& p, const Triangle& tri, LaneHits
     }
 }
 
-constexpr TriangleKernels kScalar{Isa::scalar, scalar_ray_xn, scalar_ray_xn, scalar_packet_x1};
-constexpr TriangleKernels kSse42{Isa::sse42, kernels_sse42::ray_x4, kernels_sse42::ray_x8, kernels_sse42::packet_x1};
-constexpr TriangleKernels kAvx2{Isa::avx2, kernels_sse42::ray_x4, kernels_avx2::ray_x8, kernels_avx2::packet_x1};
-constexpr TriangleKernels kAvx512{Isa::avx512, kernels_sse42::ray_x4, kernels_avx2::ray_x8,
-                                  kernels_avx512::packet_x1};
-
 }  // namespace
 
-const TriangleKernels& triangle_kernels(Isa isa) {
-    if (!isa_available(isa)) throw Error(std::string("instruction set ") + isa_name(isa) + " is not available");
-    switch (isa) {
-        case Isa::scalar: return kScalar;
-        case Isa::sse42: return kSse42;
-        case Isa::avx2: return kAvx2;
-        case Isa::avx512: return kAvx512;
-    }
+template <>
+const TriangleKernels& simd::table<TriangleKernels, Isa::scalar>() {
+    static constexpr TriangleKernels kScalar{Isa::scalar, scalar_ray_xn, scalar_ray_xn, scalar_packet_x1};
     return kScalar;
 }
+
+const TriangleKernels& triangle_kernels(Isa isa) { return simd::select<TriangleKernels>(isa); }
 
 }  // namespace beamtrace

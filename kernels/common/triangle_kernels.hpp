@@ -1,10 +1,11 @@
 #pragma once
-// SIMD watertight ray/triangle kernels, chosen at run time (SSE4.2 / AVX2 / AVX-512), each returning
-// per lane exactly what intersect_triangle() (the scalar reference) returns.
+// SIMD watertight ray/triangle kernels, chosen at run time (SSE4.2 / AVX2 / AVX-512; simd/dispatch.hpp),
+// each returning per lane exactly what intersect_triangle() (the scalar reference) returns.
 #include <cstdint>
 
 #include "beamtrace/scene.hpp"
-#include "common/isa.hpp"
+#include "simd/dispatch.hpp"
+#include "simd/isa.hpp"
 #include "common/watertight_ray.hpp"
 
 namespace beamtrace {
@@ -28,18 +29,6 @@ struct TriangleKernels {
 const TriangleKernels& triangle_kernels(Isa isa);
 inline const TriangleKernels& triangle_kernels() { return triangle_kernels(best_isa()); }
 
-// Per-ISA entry points, defined in the triangle_kernels_<isa>.cpp units.
-namespace kernels_sse42 {
-void ray_x4(const WatertightRay&, const Triangle* const*, int, LaneHits&);
-void ray_x8(const WatertightRay&, const Triangle* const*, int, LaneHits&);
-void packet_x1(const WatertightPacket16&, const Triangle&, LaneHits&);
-}  // namespace kernels_sse42
-namespace kernels_avx2 {
-void ray_x8(const WatertightRay&, const Triangle* const*, int, LaneHits&);
-void packet_x1(const WatertightPacket16&, const Triangle&, LaneHits&);
-}  // namespace kernels_avx2
-namespace kernels_avx512 {
-void packet_x1(const WatertightPacket16&, const Triangle&, LaneHits&);
-}  // namespace kernels_avx512
-
 }  // namespace beamtrace
+
+BEAMTRACE_KERNEL_TABLE(beamtrace::TriangleKernels);

@@ -5,7 +5,7 @@
 
 #include <xsimd/xsimd.hpp>
 
-#include "common/lane_bits.hpp"
+#include "simd/lane_bits.hpp"
 #include "common/triangle_kernels.hpp"
 #include "common/triangle_reference.hpp"
 

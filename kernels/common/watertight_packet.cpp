@@ -3,7 +3,7 @@
 // make_watertight_ray (compares, selects, and divisions, which round the same in any width).
 #include <bit>
 
-#include "common/sse_lanes.hpp"
+#include "simd/sse_lanes.hpp"
 #include "common/watertight_ray.hpp"
 
 namespace beamtrace {

@@ -1,12 +1,19 @@
 #pragma once
 // The compact kd-tree node (8 bytes) and the tree's storage.
+#include <atomic>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "beamtrace/kdtree.hpp"
 #include "common/triangle_kernels.hpp"
 
 namespace beamtrace {
+
+namespace kdtree {
+struct PacketTables;
+}
 
 // Inner node: split position, axis (0..2) in the low two bits, index of the upper child in the other
 // 30 (the lower child is the next node: nodes are stored depth first).
@@ -56,11 +63,21 @@ struct KdTree::Impl {
 
     explicit Impl(const Scene& s) : scene(s) {}
 
+    // The tables of packet traversal (kdtree/packet/packet_tables.hpp), made on first use (thread-safe).
+    const kdtree::PacketTables& packet_tables() const;
+    // Bytes of the packet tables, 0 until they are made.
+    std::size_t packet_table_bytes() const;
+
     // Fills leaf_triangles from triangle_ids (once the leaves are final).
     void gather_leaf_triangles() {
         leaf_triangles.resize(triangle_ids.size());
         for (std::size_t r = 0; r < triangle_ids.size(); ++r) leaf_triangles[r] = scene.triangle(triangle_ids[r]);
     }
+
+private:
+    mutable std::once_flag packet_once_;
+    mutable std::shared_ptr<const kdtree::PacketTables> packet_;  // owner, set once under packet_once_
+    mutable std::atomic<const kdtree::PacketTables*> packet_made_{nullptr};  // readable by anyone
 };
 
 }  // namespace beamtrace

@@ -6,9 +6,9 @@
 
 #include "common/ray_validity.hpp"
 #include "common/triangle_reference.hpp"
-#include "kdtree/kd_node.hpp"
+#include "kdtree/ray_traversal.hpp"
 
-namespace beamtrace {
+namespace beamtrace::kdtree {
 namespace {
 
 constexpr int kStackSize = 64;
@@ -44,8 +44,10 @@ bool clip_to_box(const Ray& ray, const Float3& inv, const Box& box, float& tmin,
     return tmin <= tmax;
 }
 
+}  // namespace
+
 template <bool kOcclusion, bool kCount>
-Hit traverse(const KdTree::Impl& tree, const Ray& ray, TraversalCounters* counters) {
+Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counters) {
     Hit best;
     if constexpr (kCount) ++counters->rays;
     if (!describes_segment(ray)) return best;
@@ -138,13 +140,9 @@ Hit traverse(const KdTree::Impl& tree, const Ray& ray, TraversalCounters* counte
     }
 }
 
-}  // namespace
+template Hit traverse_ray<false, false>(const KdTree::Impl&, const Ray&, QueryCounters*);
+template Hit traverse_ray<false, true>(const KdTree::Impl&, const Ray&, QueryCounters*);
+template Hit traverse_ray<true, false>(const KdTree::Impl&, const Ray&, QueryCounters*);
+template Hit traverse_ray<true, true>(const KdTree::Impl&, const Ray&, QueryCounters*);
 
-Hit KdTree::intersect(const Ray& ray) const { return traverse<false, false>(*impl_, ray, nullptr); }
-bool KdTree::occluded(const Ray& ray) const { return traverse<true, false>(*impl_, ray, nullptr).hit(); }
-Hit KdTree::intersect(const Ray& ray, TraversalCounters& c) const { return traverse<false, true>(*impl_, ray, &c); }
-bool KdTree::occluded(const Ray& ray, TraversalCounters& c) const {
-    return traverse<true, true>(*impl_, ray, &c).hit();
-}
-
-}  // namespace beamtrace
+}  // namespace beamtrace::kdtree

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "common/ray_validity.hpp"
-#include "common/sse_lanes.hpp"
+#include "simd/sse_lanes.hpp"
 
 namespace beamtrace::mlrta {
 

@@ -8,7 +8,7 @@
 #include <cstdint>
 
 #include "beamtrace/ray.hpp"
-#include "mlrta/interval.hpp"
+#include "common/interval.hpp"
 
 namespace beamtrace::mlrta {
 

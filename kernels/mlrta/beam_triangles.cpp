@@ -4,8 +4,8 @@
 
 namespace beamtrace::mlrta {
 
-PacketFrustum beam_frustum(const Beam& beam) {
-    PacketFrustum f;
+OneOriginFrustum beam_frustum(const Beam& beam) {
+    OneOriginFrustum f;
     if (beam.empty || !beam.coherent || !beam.one_origin) return f;
     f.m = beam.main_axis;
     f.j0 = f.m == 0 ? 1 : 0;
@@ -17,7 +17,7 @@ PacketFrustum beam_frustum(const Beam& beam) {
         const Interval s = beam.slope[f.m][j];
         f.slope[j] = f.sm > 0 ? s : Interval{-s.hi, -s.lo};
     }
-    // The same widening as a packet's frustum (make_packet_frustum): the beam's ranges are already
+    // The same widening as a packet's frustum (make_one_origin_frustum): the beam's ranges are already
     // outward-rounded, this adds room for the corners' own rounding.
     for (int j = 0; j < 3; ++j) {
         const float spread = (f.slope[j].hi - f.slope[j].lo) + std::fabs(f.slope[j].lo) + std::fabs(f.slope[j].hi);
@@ -45,7 +45,7 @@ D3 widen(Float3 p) { return {{double(p.x), double(p.y), double(p.z)}}; }
 
 }  // namespace
 
-BeamBlock beam_block(const Beam& beam, const PacketFrustum& f, const Triangle& tri, const Box& cell) {
+BeamBlock beam_block(const Beam& beam, const OneOriginFrustum& f, const Triangle& tri, const Box& cell) {
     BeamBlock none;
     if (!f.valid || !beam.one_origin) return none;
     const D3 o = widen(f.origin);

@@ -2,7 +2,7 @@
 // A beam with one origin against single triangles (MLRTA section 4.1, "potential intersections" and
 // termination (4), first case), used by the entry-point search:
 //   - culling: no ray of the beam can meet a triangle that lies outside its frustum (the same test,
-//     and the same kernels, as the packet frustum of interval traversal: packet_frustum.hpp);
+//     and the same kernels, as the packet frustum of interval traversal: kdtree/packet/one_origin_frustum.hpp);
 //   - blocking: every ray of the beam meets one triangle inside a cell, before its segment ends;
 //     then no ray of the beam goes beyond that cell, and the search may stop there.
 // Both decisions are conservative: a triangle is culled only if no ray can hit it, and blocking is
@@ -10,13 +10,15 @@
 // the watertight test.
 #include "beamtrace/scene.hpp"
 #include "mlrta/beam.hpp"
-#include "mlrta/packet_frustum.hpp"
+#include "kdtree/packet/one_origin_frustum.hpp"
 
 namespace beamtrace::mlrta {
 
+using kdtree::OneOriginFrustum;
+
 // The frustum of a beam with one origin (invalid otherwise, or for an incoherent beam): the beam's
 // slope ranges along its main axis, widened as a packet's are.
-PacketFrustum beam_frustum(const Beam& beam);
+OneOriginFrustum beam_frustum(const Beam& beam);
 
 // Whether every ray of the beam (any direction in the frustum `f`, which must be beam_frustum(beam),
 // any start and end in the beam's apex ranges) hits `tri` within its segment, how far along the main
@@ -29,6 +31,6 @@ struct BeamBlock {
     bool inside = false;  // ... at a point of `cell`
     double far = 0.0;     // the largest distance along the main axis from the apex of those hits
 };
-BeamBlock beam_block(const Beam& beam, const PacketFrustum& f, const Triangle& tri, const Box& cell);
+BeamBlock beam_block(const Beam& beam, const OneOriginFrustum& f, const Triangle& tri, const Box& cell);
 
 }  // namespace beamtrace::mlrta

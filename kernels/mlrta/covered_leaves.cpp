@@ -86,31 +86,7 @@ void mark_covered(const KdTree::Impl& tree, std::uint32_t i, const Box& box, std
     mark_covered(tree, n.upper_child(), upper, out);
 }
 
-void mark_geometry(const KdTree::Impl& tree, std::uint32_t i, const Box& cell, std::vector<Box>& out) {
-    const KdNode& n = tree.nodes[i];
-    if (!n.is_leaf()) {
-        Box lower = cell, upper = cell;
-        lower.upper[n.axis()] = n.split;
-        upper.lower[n.axis()] = n.split;
-        mark_geometry(tree, i + 1, lower, out);
-        mark_geometry(tree, n.upper_child(), upper, out);
-        return;
-    }
-    const Float3 e = cell.extent();
-    const double slack = 1e-6 * (double(std::max({e.x, e.y, e.z})) + 1e-30);
-    for (std::uint32_t j = 0; j < n.triangle_count(); ++j) {
-        const Box b = kd::clipped_bounds(tree.leaf_triangles[n.offset() + j], cell, slack);
-        if (!b.empty()) out[i].extend(b);
-    }
-}
-
 }  // namespace
-
-std::vector<Box> leaf_geometry_boxes(const KdTree::Impl& tree) {
-    std::vector<Box> out(tree.nodes.size());
-    if (!tree.nodes.empty()) mark_geometry(tree, 0, tree.bounds, out);
-    return out;
-}
 
 std::vector<std::uint32_t> subtree_sizes(const KdTree::Impl& tree) {
     std::vector<std::uint32_t> out(tree.nodes.size(), 1);

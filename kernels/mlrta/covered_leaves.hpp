@@ -11,11 +11,6 @@ namespace beamtrace::mlrta {
 
 std::vector<std::uint32_t> subtree_sizes(const KdTree::Impl& tree);
 
-// The geometry of every leaf, by node index: the box of its triangles clipped to its cell (rounded
-// outwards), empty for an empty leaf and for inner nodes. A ray that misses it meets no triangle
-// of the leaf inside the leaf's cell, and a hit outside the cell is found in the cell it lies in.
-std::vector<Box> leaf_geometry_boxes(const KdTree::Impl& tree);
-
 // A leaf is covered when it is flat (zero extent along one axis), its triangles lying in that plane
 // do not overlap one another (2D separating-axis test in double precision) and their areas inside
 // the leaf's face add up to the face's area (to 1e-9). Leaves with more than 64 triangles are not

@@ -5,8 +5,12 @@
 
 #include "beamtrace/ray.hpp"
 #include "beamtrace/vec.hpp"
+#include "kdtree/packet/packet_traversal.hpp"
 
 namespace beamtrace::mlrta {
+
+using kdtree::Bifurcation;
+using kdtree::NodeBox;
 
 struct EntryPoint {
     std::uint32_t node = 0;
@@ -27,16 +31,8 @@ struct Uninitialised {
     };
 };
 
-struct NodeBox {
-    std::uint32_t node;
-    Box box;
-};
-
-// A node of the bifurcation stack: both its children may be entered, `other` is not searched yet.
-struct Bifurcation {
-    NodeBox node;
-    NodeBox other;
-};
+// A node of the bifurcation stack is a kdtree::Bifurcation: both its children may be entered,
+// `other` is not searched yet.
 
 // Where an entry-point search found its first leaf with potential intersections, seen from the
 // entry point it returned: that leaf and the bifurcations on its path below the entry point (the

@@ -16,8 +16,8 @@ class Search {
 public:
     Search(const Mlrta::Impl& m, const Beam& beam, std::uint64_t& steps)
         : m_(m), kd_(m.kd()), beam_(beam), steps_(steps) {
-        if (m.settings.frustum_test == FrustumTest::direct) frustum_ = make_frustum(beam);
-        if (m.settings.ep_triangles) triangles_ = beam_frustum(beam);
+        if (m.settings.experimental.frustum_test == FrustumTest::direct) frustum_ = make_frustum(beam);
+        if (m.settings.experimental.ep_triangles) triangles_ = beam_frustum(beam);
     }
 
     // A blocker known from the parent tile (whose beam holds this one) blocks this beam as well:
@@ -61,7 +61,7 @@ public:
         for (std::uint32_t j = 0; j < count; j += 16) {
             const int batch = int(std::min<std::uint32_t>(16, count - j));
             const std::uint32_t all = batch == 16 ? 0xFFFFu : (1u << batch) - 1u;
-            if (m_.frustum_cull(triangles_, tris + j, batch) != all) return true;
+            if (m_.kernels().frustum_cull(triangles_, tris + j, batch) != all) return true;
         }
         return false;
     }
@@ -78,7 +78,7 @@ public:
             if (count <= kMaxBlockingCandidates) {
                 const std::uint32_t* ids = kd_.triangle_ids.data() + node.offset();
                 const Triangle* tris = kd_.leaf_triangles.data() + node.offset();
-                const std::uint32_t culled = m_.frustum_cull(triangles_, tris, int(count));
+                const std::uint32_t culled = m_.kernels().frustum_cull(triangles_, tris, int(count));
                 for (std::uint32_t j = 0; j < count; ++j)
                     if (!((culled >> j) & 1u) && try_blocker(ids[j], tris[j], leaf.box)) return true;
             }
@@ -301,7 +301,7 @@ private:
     Beam beam_;  // a copy: a blocker shortens its segments
     std::uint64_t& steps_;
     Frustum4 frustum_;
-    PacketFrustum triangles_;  // valid for beams with one origin when settings.ep_triangles
+    OneOriginFrustum triangles_;  // valid for beams with one origin when settings.ep_triangles
     std::uint32_t blocker_ = kNoHit;
     double blocker_far_ = 0.0;
     // Leaves with more triangles are not searched for one that blocks the beam (a cost bound).
@@ -317,7 +317,7 @@ EntryPoint entry_point_search(const Mlrta::Impl& m, const Beam& beam, const Entr
     if (trail && !trail->valid) trail = nullptr;
     Search search(m, beam, steps);
     search.inherit(start);
-    return m.settings.ep_search == EpSearch::bifurcation_stack ? search.run_bifurcation_stack(start, trail, out)
+    return m.settings.experimental.ep_search == EpSearch::bifurcation_stack ? search.run_bifurcation_stack(start, trail, out)
                                                                : search.run_top_down(start, trail, out);
 }
 

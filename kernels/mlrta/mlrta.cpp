@@ -1,13 +1,17 @@
-// The Mlrta object: tables built once, tiles run (in parallel with TBB), single packets from the root.
+// The Mlrta object: tables built once; images traced by tiles (in parallel with TBB); other rays by
+// the tree's packet traversal from the root; occlusion rays reversed towards their light first.
 #include <tbb/blocked_range2d.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "beamtrace/error.hpp"
+#include "common/query_runner.hpp"
+#include "kdtree/ray_traversal.hpp"
 #include "mlrta/covered_leaves.hpp"
-#include "mlrta/interval_traversal.hpp"
-#include "mlrta/tile_splitter.hpp"
+#include "mlrta/entry_point_trace.hpp"
+#include "mlrta/shadow_reversal.hpp"
+#include "mlrta/tile_tracer.hpp"
 
 namespace beamtrace {
 
@@ -20,24 +24,16 @@ void MlrtaSettings::validate() const {
     if (split_factor != 4 && split_factor != 16) fail("split_factor must be 4 or 16");
 }
 
-MlrtaCounters& MlrtaCounters::operator+=(const MlrtaCounters& o) {
-    packets += o.packets;
-    ep_steps += o.ep_steps;
-    xp_steps += o.xp_steps;
-    triangle_tests += o.triangle_tests;
-    tiles += o.tiles;
-    divergent_tiles += o.divergent_tiles;
-    single_rays += o.single_rays;
-    blocked_tiles += o.blocked_tiles;
-    return *this;
-}
+Mlrta::Impl::Impl(const KdTree& t, const MlrtaSettings& s)
+    : tree(t),
+      settings(s),
+      packets{detail::Access::impl(t), detail::Access::impl(t).packet_tables(), s.experimental.triangle_culling} {}
 
 Mlrta::Mlrta(const KdTree& tree, const MlrtaSettings& settings) {
     settings.validate();
     auto impl = std::make_shared<Impl>(tree, settings);
-    impl->subtree_nodes = mlrta::subtree_sizes(tree.impl());
-    impl->covered_leaf = mlrta::covered_flat_leaves(tree.impl());
-    impl->geometry_boxes = mlrta::leaf_geometry_boxes(tree.impl());
+    impl->subtree_nodes = mlrta::subtree_sizes(impl->kd());
+    impl->covered_leaf = mlrta::covered_flat_leaves(impl->kd());
     impl_ = std::move(impl);
 }
 
@@ -45,83 +41,140 @@ const MlrtaSettings& Mlrta::settings() const { return impl_->settings; }
 const KdTree& Mlrta::tree() const { return impl_->tree; }
 std::size_t Mlrta::memory_bytes() const {
     return impl_->subtree_nodes.size() * sizeof(std::uint32_t) + impl_->covered_leaf.size() +
-           impl_->geometry_boxes.size() * sizeof(Box);
+           impl_->tree.packet_table_bytes();
 }
 
 namespace {
 
-void check_grid(const PacketGrid& grid) {
+void check_grid(const PacketGrid& grid, std::size_t answers, const QueryOptions& options, const char* what) {
     if (grid.columns < 0 || grid.rows < 0 || (grid.packets == nullptr && grid.columns * grid.rows > 0))
-        throw Error("MLRTA: the packet grid is inconsistent (negative size or no packets)");
+        throw Error(std::string(what) + ": the packet grid is inconsistent (negative size or no packets)");
+    check_query(what, std::size_t(grid.columns) * std::size_t(grid.rows), answers, options);
 }
 
 template <bool kOcclusion>
-void run_tiles(const Mlrta::Impl& m, const PacketGrid& grid, PacketHits16* hits, std::uint32_t* occluded, int threads,
-               MlrtaCounters* counters, const TileObserver& observer) {
-    check_grid(grid);
-    if (threads < 1) throw Error("MLRTA: threads must be at least 1");
+void run_tiles(const Mlrta::Impl& m, const PacketGrid& grid, PacketHits16* hits, std::uint32_t* occluded,
+               const QueryOptions& options, const TileObserver& observer) {
     const int side = std::max(1, m.settings.initial_tile / 4);
     const int tiles_x = (grid.columns + side - 1) / side, tiles_y = (grid.rows + side - 1) / side;
     const TileObserver* obs = observer ? &observer : nullptr;
-    auto run = [&](int tx0, int tx1, int ty0, int ty1, MlrtaCounters* c) {
+    auto run = [&](int tx0, int tx1, int ty0, int ty1, QueryCounters* c) {
+        auto tiles = [&](auto& tracer) {
+            for (int ty = ty0; ty < ty1; ++ty)
+                for (int tx = tx0; tx < tx1; ++tx) tracer.trace_initial_tile(tx * side, ty * side);
+        };
         if (c) {
-            mlrta::TileSplitter<kOcclusion, true> splitter(m, grid, hits, occluded, c, obs);
-            for (int ty = ty0; ty < ty1; ++ty)
-                for (int tx = tx0; tx < tx1; ++tx) splitter.trace_initial_tile(tx * side, ty * side);
+            mlrta::TileTracer<kOcclusion, true> tracer(m, grid, hits, occluded, c, obs, kOcclusion);
+            tiles(tracer);
         } else {
-            mlrta::TileSplitter<kOcclusion, false> splitter(m, grid, hits, occluded, nullptr, obs);
-            for (int ty = ty0; ty < ty1; ++ty)
-                for (int tx = tx0; tx < tx1; ++tx) splitter.trace_initial_tile(tx * side, ty * side);
+            mlrta::TileTracer<kOcclusion, false> tracer(m, grid, hits, occluded, nullptr, obs, kOcclusion);
+            tiles(tracer);
         }
     };
-    if (threads == 1) {
-        run(0, tiles_x, 0, tiles_y, counters);
+    if (options.threads == 1) {
+        run(0, tiles_x, 0, tiles_y, options.counters);
         return;
     }
-    tbb::combinable<MlrtaCounters> per_thread;
-    tbb::task_arena arena(threads);
+    tbb::combinable<QueryCounters> per_thread;
+    tbb::task_arena arena(options.threads);
     arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1),
-                          [&](const tbb::blocked_range2d<int>& r) {
-                              run(r.cols().begin(), r.cols().end(), r.rows().begin(), r.rows().end(),
-                                  counters ? &per_thread.local() : nullptr);
-                          });
+        tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const tbb::blocked_range2d<int>& r) {
+            run(r.cols().begin(), r.cols().end(), r.rows().begin(), r.rows().end(),
+                options.counters ? &per_thread.local() : nullptr);
+        });
     });
-    if (counters) per_thread.combine_each([&](const MlrtaCounters& c) { *counters += c; });
+    if (options.counters) per_thread.combine_each([&](const QueryCounters& c) { *options.counters += c; });
+}
+
+// One packet from the root; occlusion packets reversed towards their light first when they can be.
+template <bool kOcclusion, bool kCount>
+void trace_from_root(const Mlrta::Impl& m, const mlrta::EntryPoint& root, double tolerance, const Packet16& packet,
+                     PacketHits16* hits, std::uint32_t* occluded, QueryCounters* counters) {
+    if constexpr (kOcclusion) {
+        Packet16 traced;
+        if (mlrta::reverse_for_occlusion(packet, tolerance, traced)) {
+            mlrta::trace_packet<true, kCount>(m, traced, root, nullptr, occluded, counters);
+            return;
+        }
+    }
+    mlrta::trace_packet<kOcclusion, kCount>(m, packet, root, hits, occluded, counters);
+}
+
+template <bool kOcclusion>
+void trace_packets(const Mlrta::Impl& m, std::span<const Packet16> packets, PacketHits16* hits, std::uint32_t* bits,
+                   const QueryOptions& options) {
+    const mlrta::EntryPoint root = mlrta::root_entry(m);
+    const double tolerance = kOcclusion ? mlrta::reversal_tolerance(m.kd().scene.bounds()) : 0.0;
+    run_query(packets.size(), options, 16, [&](std::size_t b, std::size_t e, QueryCounters* c) {
+        for (std::size_t p = b; p < e; ++p) {
+            PacketHits16* h = kOcclusion ? nullptr : hits + p;
+            std::uint32_t* o = kOcclusion ? bits + p : nullptr;
+            if (c) trace_from_root<kOcclusion, true>(m, root, tolerance, packets[p], h, o, c);
+            else trace_from_root<kOcclusion, false>(m, root, tolerance, packets[p], h, o, nullptr);
+        }
+    });
+}
+
+// Rays 16 at a time as packets (the last one partial), answers back in input order.
+template <bool kOcclusion, class Out>
+void trace_rays(const Mlrta::Impl& m, std::span<const Ray> rays, Out* out, const QueryOptions& options) {
+    const mlrta::EntryPoint root = mlrta::root_entry(m);
+    const double tolerance = kOcclusion ? mlrta::reversal_tolerance(m.kd().scene.bounds()) : 0.0;
+    const std::size_t packets = (rays.size() + 15) / 16;
+    run_query(packets, options, 16, [&](std::size_t b, std::size_t e, QueryCounters* c) {
+        for (std::size_t p = b; p < e; ++p) {
+            Packet16 packet;
+            packet.active = 0;
+            const std::size_t first = p * 16, n = std::min<std::size_t>(16, rays.size() - first);
+            for (std::size_t i = 0; i < 16; ++i) packet.set_ray(int(i), rays[first + std::min(i, n - 1)]);
+            packet.active = n == 16 ? 0xFFFFu : (1u << n) - 1u;
+            PacketHits16 hits;
+            std::uint32_t bits = 0;
+            if (c) trace_from_root<kOcclusion, true>(m, root, tolerance, packet, &hits, &bits, c);
+            else trace_from_root<kOcclusion, false>(m, root, tolerance, packet, &hits, &bits, nullptr);
+            for (std::size_t i = 0; i < n; ++i) {
+                if constexpr (kOcclusion) out[first + i] = std::uint8_t((bits >> i) & 1u);
+                else out[first + i] = hits.hit(int(i));
+            }
+        }
+    });
 }
 
 }  // namespace
 
-void Mlrta::intersect(const PacketGrid& grid, PacketHits16* hits, int threads, MlrtaCounters* counters,
+void Mlrta::intersect(const PacketGrid& grid, std::span<PacketHits16> hits, const QueryOptions& options,
                       const TileObserver& observer) const {
-    run_tiles<false>(*impl_, grid, hits, nullptr, threads, counters, observer);
+    check_grid(grid, hits.size(), options, "Mlrta::intersect");
+    run_tiles<false>(*impl_, grid, hits.data(), nullptr, options, observer);
 }
 
-void Mlrta::occluded(const PacketGrid& grid, std::uint32_t* occluded, int threads, MlrtaCounters* counters) const {
-    run_tiles<true>(*impl_, grid, nullptr, occluded, threads, counters, {});
+void Mlrta::occluded(const PacketGrid& grid, std::span<std::uint32_t> occluded, const QueryOptions& options) const {
+    check_grid(grid, occluded.size(), options, "Mlrta::occluded");
+    run_tiles<true>(*impl_, grid, nullptr, occluded.data(), options, {});
 }
 
-void Mlrta::intersect_packet(const Packet16& packet, PacketHits16& hits, MlrtaCounters* counters) const {
-    const mlrta::EntryPoint root = mlrta::root_entry(*impl_);
-    if (counters) mlrta::trace_packet<false, true>(*impl_, packet, root, &hits, nullptr, counters);
-    else mlrta::trace_packet<false, false>(*impl_, packet, root, &hits, nullptr, nullptr);
+Hit Mlrta::intersect(const Ray& ray) const { return kdtree::intersect_one(impl_->kd(), ray); }
+bool Mlrta::occluded(const Ray& ray) const { return kdtree::occluded_one(impl_->kd(), ray); }
+
+void Mlrta::intersect(std::span<const Ray> rays, std::span<Hit> hits, const QueryOptions& options) const {
+    check_query("Mlrta::intersect", rays.size(), hits.size(), options);
+    trace_rays<false>(*impl_, rays, hits.data(), options);
 }
 
-std::uint32_t Mlrta::occluded_packet(const Packet16& packet, MlrtaCounters* counters) const {
-    const mlrta::EntryPoint root = mlrta::root_entry(*impl_);
-    std::uint32_t bits = 0;
-    if (counters) mlrta::trace_packet<true, true>(*impl_, packet, root, nullptr, &bits, counters);
-    else mlrta::trace_packet<true, false>(*impl_, packet, root, nullptr, &bits, nullptr);
-    return bits;
+void Mlrta::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded, const QueryOptions& options) const {
+    check_query("Mlrta::occluded", rays.size(), occluded.size(), options);
+    trace_rays<true>(*impl_, rays, occluded.data(), options);
 }
 
-Ray reversed(const Ray& r) {
-    Ray out;
-    out.org = r.org + r.dir * r.tfar;
-    out.dir = r.dir * -1.0f;
-    out.tnear = 0.0f;
-    out.tfar = r.tfar - r.tnear;
-    return out;
+void Mlrta::intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, const QueryOptions& options) const {
+    check_query("Mlrta::intersect", packets.size(), hits.size(), options);
+    trace_packets<false>(*impl_, packets, hits.data(), nullptr, options);
+}
+
+void Mlrta::occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded,
+                     const QueryOptions& options) const {
+    check_query("Mlrta::occluded", packets.size(), occluded.size(), options);
+    trace_packets<true>(*impl_, packets, nullptr, occluded.data(), options);
 }
 
 }  // namespace beamtrace

@@ -1,11 +1,12 @@
 #pragma once
-// Mlrta's private state: the tree, its settings, and per-node tables computed once.
+// Mlrta's private state: the tree, its settings, the per-node tables of the entry-point search, and
+// the context of the tree's packet traversal its tiles finish with.
 #include <vector>
 
 #include "beamtrace/mlrta.hpp"
+#include "common/access.hpp"
 #include "kdtree/kd_node.hpp"
-#include "mlrta/lane_slabs.hpp"
-#include "mlrta/packet_frustum.hpp"
+#include "kdtree/packet/packet_traversal.hpp"
 
 namespace beamtrace {
 
@@ -14,16 +15,11 @@ struct Mlrta::Impl {
     MlrtaSettings settings;
     std::vector<std::uint32_t> subtree_nodes;  // per node: nodes in its subtree (itself included)
     std::vector<std::uint8_t> covered_leaf;    // per node: a flat leaf completely covered by its triangles
-    std::vector<Box> geometry_boxes;           // per leaf: its triangles clipped to its cell (XP keeps no boxes)
-    mlrta::FrustumCullKernel frustum_cull;     // same instruction set as the tree's triangle kernels
-    mlrta::LaneBoxKernel lane_box;             // likewise
+    kdtree::PacketTraversalContext packets;    // the tree's packet traversal, MLRTA's culling switch
 
-    Impl(const KdTree& t, const MlrtaSettings& s)
-        : tree(t),
-          settings(s),
-          frustum_cull(mlrta::frustum_cull_kernel(t.impl().kernels->isa)),
-          lane_box(mlrta::lane_box_kernel(t.impl().kernels->isa)) {}
-    const KdTree::Impl& kd() const { return tree.impl(); }
+    Impl(const KdTree& t, const MlrtaSettings& s);
+    const KdTree::Impl& kd() const { return detail::Access::impl(tree); }
+    const kdtree::PacketKernels& kernels() const { return *packets.tables.kernels; }
 };
 
 }  // namespace beamtrace

@@ -14,7 +14,7 @@ inline WalkContext walk_context(const VisibilityField::Impl& f) {
 
 template <bool kOcclusion, bool kCount>
 Hit walk_field(const VisibilityField::Impl& f, const ParallelSubfield& psf, const CanonicalRay& cr,
-               const WatertightRay& ray, VlfMode mode, VlfCounters* counters) {
+               const WatertightRay& ray, VlfMode mode, QueryCounters* counters) {
     const WalkContext ctx = walk_context(f);
     // Occlusion along a segment inside one tile (AO rays along PSF directions, mode fast): one
     // fused kernel. The counting walks keep TileWalk, which tests the same triangles and counts them.

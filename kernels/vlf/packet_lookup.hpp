@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "beamtrace/ray.hpp"
-#include "common/isa.hpp"
+#include "simd/isa.hpp"
 #include "common/watertight_ray.hpp"
 #include "vlf/canonical_frame.hpp"
 #include "vlf/canonical_ray.hpp"

@@ -17,7 +17,7 @@ void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::Packet
         const int i = __builtin_ctz(m);
         const float s = std::fabs(p.dir_x[i]) + std::fabs(p.dir_y[i]) + std::fabs(p.dir_z[i]);
         if (!(s > 0.0f && s < kInfinity)) continue;
-        const auto nearest = f.directions.impl().nearest(p.dir_x[i], p.dir_y[i], p.dir_z[i]);
+        const auto nearest = detail::Access::impl(f.directions).nearest(p.dir_x[i], p.dir_y[i], p.dir_z[i]);
         vlf::CanonicalRay cr;
         if (!vlf::make_canonical_ray(f.frames[nearest.index], f.grid, f.world_box, p.ray(i), cr)) continue;
         out.psf[i] = nearest.index;

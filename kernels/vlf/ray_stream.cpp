@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "common/query_runner.hpp"
 #include "vlf/field_query.hpp"
 #include "vlf/packet_start.hpp"
 #include "vlf/tile_ray_stream.hpp"
@@ -145,7 +146,9 @@ void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, W
 
 void VisibilityField::intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, VlfMode mode,
                                 VlfOrder order) const {
+    check_query("VisibilityField::intersect", packets.size(), hits.size(), QueryOptions{});
     const Impl& f = *impl_;
+    if (order == VlfOrder::automatic) order = VlfOrder::input;  // camera packets
     auto closest = [&](const Group& g, int i) {
         return vlf::walk_field<false, false>(f, *g.start.psf[i], g.start.lookup.ray(i),
                                              g.start.lookup.watertight(i, *g.packet), mode, nullptr);
@@ -169,6 +172,8 @@ void VisibilityField::intersect(std::span<const Packet16> packets, std::span<Pac
 
 void VisibilityField::occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded, VlfMode mode,
                                VlfOrder order) const {
+    check_query("VisibilityField::occluded", packets.size(), occluded.size(), QueryOptions{});
+    if (order == VlfOrder::automatic) order = VlfOrder::psf;  // incoherent secondary rays
     for (std::uint32_t& bits : occluded) bits = 0;
     const Impl& f = *impl_;
     auto walk = [&](const Group& g) {

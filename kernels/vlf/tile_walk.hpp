@@ -93,7 +93,7 @@ inline EntriesAnswer occlude_in_first_tile(const ParallelSubfield& psf, const Wa
 template <bool kOcclusion, bool kFast, bool kCount>
 class TileWalk {
 public:
-    TileWalk(const ParallelSubfield& psf, const WalkContext& ctx, const WatertightRay& ray, VlfCounters* counters)
+    TileWalk(const ParallelSubfield& psf, const WalkContext& ctx, const WatertightRay& ray, QueryCounters* counters)
         : psf_(psf), ctx_(ctx), wray_(ray), counters_(counters) {}
 
     // Closest hit (or, for occlusion, any hit: best.triangle != kNoHit) along the segment of cr.
@@ -131,7 +131,7 @@ private:
     // Tile (c, r) for the part [ta, tb] of the segment; true when the walk is finished (a hit no
     // farther than what has been covered, or any hit for occlusion).
     bool visit(int c, int r, const CanonicalRay& cr, double ta, double tb) {
-        if constexpr (kCount) ++counters_->tiles;
+        if constexpr (kCount) ++counters_->vlf.tiles;
         const TileRef ref = psf_.tile(std::uint32_t(r) * std::uint32_t(ctx_.grid->n) + std::uint32_t(c));
         if (ref.leaves == 0) return false;
         const TileBspView bsp = psf_.view(ref);
@@ -188,7 +188,7 @@ private:
     bool leaves(const TileBspView& bsp, std::uint32_t j0, std::uint32_t j1, std::uint32_t ray) {
         if constexpr (kCount) counters_->leaves += j1 - j0 + 1;
         const std::uint32_t first = bsp.begin(j0), count = bsp.end(j1) - first;
-        if constexpr (kCount) counters_->entries += count;
+        if constexpr (kCount) counters_->vlf.entries += count;
         if (j1 > j0) distinct_ = false;  // a straddling triangle appears once per leaf
         const std::uint32_t* ids = bsp.ids();
         const std::uint32_t* footprints = bsp.footprints();
@@ -308,7 +308,7 @@ private:
     const ParallelSubfield& psf_;
     const WalkContext& ctx_;
     WatertightRay wray_;
-    VlfCounters* counters_;
+    QueryCounters* counters_;
     Hit best_;
     static constexpr std::uint32_t kListed = 32;
     static constexpr std::uint32_t kScanChunk = 128;  // entries scanned per call of the kernel

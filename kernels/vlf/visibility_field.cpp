@@ -58,7 +58,7 @@ VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o) : options(o
     build_locks = std::make_unique<std::mutex[]>(psfs.size());
     kernels = &triangle_kernels();
     // The packet lookup's tables.
-    const DirectionSet::Impl& d = directions.impl();
+    const DirectionSet::Impl& d = detail::Access::impl(directions);
     const std::size_t l = frames.size();
     lookup.frames.resize(9 * l);
     for (std::size_t i = 0; i < l; ++i) {
@@ -101,12 +101,12 @@ const vlf::ParallelSubfield& VisibilityField::Impl::build(std::uint32_t i) const
 namespace {
 
 template <bool kOcclusion, bool kCount>
-Hit trace(const VisibilityField::Impl& f, const Ray& ray, VlfMode mode, VlfCounters* counters) {
+Hit trace(const VisibilityField::Impl& f, const Ray& ray, VlfMode mode, QueryCounters* counters) {
     if constexpr (kCount) ++counters->rays;
     if (!describes_segment(ray)) return Hit{};
     const float s = std::fabs(ray.dir.x) + std::fabs(ray.dir.y) + std::fabs(ray.dir.z);
     if (!(s > 0.0f && s < kInfinity)) return Hit{};
-    const DirectionSet::Nearest nearest = f.directions.impl().nearest(ray.dir.x, ray.dir.y, ray.dir.z);
+    const DirectionSet::Nearest nearest = detail::Access::impl(f.directions).nearest(ray.dir.x, ray.dir.y, ray.dir.z);
     vlf::CanonicalRay cr;
     if (!vlf::make_canonical_ray(f.frames[nearest.index], f.grid, f.world_box, ray, cr)) return Hit{};
     return vlf::walk_field<kOcclusion, kCount>(f, f.psf(nearest.index), cr, make_watertight_ray(ray), mode, counters);
@@ -126,10 +126,10 @@ Hit VisibilityField::intersect(const Ray& ray, VlfMode mode) const { return trac
 bool VisibilityField::occluded(const Ray& ray, VlfMode mode) const {
     return trace<true, false>(*impl_, ray, mode, nullptr).hit();
 }
-Hit VisibilityField::intersect(const Ray& ray, VlfMode mode, VlfCounters& c) const {
+Hit VisibilityField::intersect(const Ray& ray, VlfMode mode, QueryCounters& c) const {
     return trace<false, true>(*impl_, ray, mode, &c);
 }
-bool VisibilityField::occluded(const Ray& ray, VlfMode mode, VlfCounters& c) const {
+bool VisibilityField::occluded(const Ray& ray, VlfMode mode, QueryCounters& c) const {
     return trace<true, true>(*impl_, ray, mode, &c).hit();
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "beamtrace/vlf.hpp"
+#include "common/access.hpp"
 #include "common/triangle_kernels.hpp"
 #include "vlf/canonical_frame.hpp"
 #include "vlf/canonical_ray.hpp"

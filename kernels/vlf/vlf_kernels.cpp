@@ -1,5 +1,5 @@
-// Run-time choice of the VLF-RT kernels, and the scalar footprint scan (the reference; the
-// reference of the entry occlusion is in entry_occlusion.hpp).
+// The scalar table of the VLF-RT kernels: the footprint scan's reference here, the others' in
+// entry_occlusion.hpp and tile_ray_batch.hpp.
 #include "vlf/vlf_kernels.hpp"
 
 #include "vlf/tile_footprint.hpp"
@@ -15,26 +15,16 @@ std::uint32_t scan_scalar(const std::uint32_t* footprints, std::uint32_t count, 
     return n;
 }
 
-constexpr VlfKernels kScalar{Isa::scalar, nullptr, scan_scalar, occlude_entries_scalar, nullptr,
-                             batch_candidates_scalar, batch_test_scalar};
-constexpr VlfKernels kSse42{Isa::sse42, simd_sse42::lookup_packet, simd_sse42::scan_footprints, occlude_entries_scalar,
-                            nullptr, batch_candidates_scalar, batch_test_scalar};
-constexpr VlfKernels kAvx2{Isa::avx2, simd_avx2::lookup_packet, simd_avx2::scan_footprints, occlude_entries_scalar,
-                           nullptr, batch_candidates_scalar, batch_test_scalar};
-constexpr VlfKernels kAvx512{Isa::avx512, simd_avx512::lookup_packet, simd_avx512::scan_footprints,
-                             simd_avx512::occlude_entries, simd_avx512::closest_entries,
-                             simd_avx512::batch_candidates, simd_avx512::batch_test};
-
 }  // namespace
 
-const VlfKernels& vlf_kernels(Isa isa) {
-    switch (isa) {
-        case Isa::scalar: return kScalar;
-        case Isa::sse42: return kSse42;
-        case Isa::avx2: return kAvx2;
-        case Isa::avx512: return kAvx512;
-    }
-    return kScalar;
-}
+const VlfKernels& vlf_kernels(Isa isa) { return simd::select<VlfKernels>(isa); }
 
 }  // namespace beamtrace::vlf
+
+template <>
+const beamtrace::vlf::VlfKernels& beamtrace::simd::table<beamtrace::vlf::VlfKernels, beamtrace::Isa::scalar>() {
+    using namespace beamtrace::vlf;
+    static constexpr VlfKernels kScalar{Isa::scalar, nullptr, scan_scalar, occlude_entries_scalar, nullptr,
+                                        batch_candidates_scalar, batch_test_scalar};
+    return kScalar;
+}

@@ -1,13 +1,13 @@
 #pragma once
-// The SIMD kernels of VLF-RT, one set per instruction set, chosen at run time like the triangle
-// kernels: the packet lookup (packet_lookup.hpp), the footprint scan (tile_footprint.hpp) and the
+// The SIMD kernels of VLF-RT, one table per instruction set (simd/dispatch.hpp): the packet lookup (packet_lookup.hpp), the footprint scan (tile_footprint.hpp) and the
 // occlusion by a run of tile entries (entry_occlusion.hpp; AVX-512 only, the reference elsewhere)
 // and the closest hit among a leaf's entries (entry_closest_hit.hpp; AVX-512 only, nullptr
 // elsewhere: the walk's own leaf loop), and the two kernels of batched one-tile occlusion
 // (tile_ray_batch.hpp; AVX-512 only, the references elsewhere).
 #include <cstdint>
 
-#include "common/isa.hpp"
+#include "simd/dispatch.hpp"
+#include "simd/isa.hpp"
 #include "vlf/entry_closest_hit.hpp"
 #include "vlf/entry_occlusion.hpp"
 #include "vlf/packet_lookup.hpp"
@@ -30,27 +30,9 @@ struct VlfKernels {
     BatchTestFn batch_test;
 };
 
+// The kernels of one instruction set (which must be available: throws beamtrace::Error otherwise).
 const VlfKernels& vlf_kernels(Isa isa);
 
-namespace simd_sse42 {
-void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&, bool);
-std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t*);
-}  // namespace simd_sse42
-namespace simd_avx2 {
-void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&, bool);
-std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t*);
-}  // namespace simd_avx2
-namespace simd_avx512 {
-void lookup_packet(const LookupTables&, const Packet16&, PacketLookup&, bool);
-std::uint32_t scan_footprints(const std::uint32_t*, std::uint32_t, std::uint32_t, std::uint32_t*);
-EntriesAnswer occlude_entries(const WatertightRay&, const Triangle*, const std::uint32_t*, const std::uint32_t*,
-                              std::uint32_t, std::uint32_t, bool, std::uint32_t*);
-bool closest_entries(const WatertightRay&, const Triangle*, const std::uint32_t*, const std::uint32_t*,
-                     const std::uint32_t*, std::uint32_t, std::uint32_t, TestedIds&, Hit&);
-std::uint32_t batch_candidates(const std::uint32_t*, const std::uint32_t*, const std::uint32_t*, std::uint32_t,
-                               std::uint32_t, std::uint32_t, bool, std::uint32_t, std::uint32_t*, std::uint32_t*);
-std::uint32_t batch_test(const TileRayBatch&, const Triangle*, const std::uint32_t*, const std::uint32_t*, std::uint32_t,
-                         std::uint32_t);
-}  // namespace simd_avx512
-
 }  // namespace beamtrace::vlf
+
+BEAMTRACE_KERNEL_TABLE(beamtrace::vlf::VlfKernels);

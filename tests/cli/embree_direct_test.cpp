@@ -13,7 +13,7 @@
 
 #include "scenes/camera.hpp"
 #include "support/command_line.hpp"
-#include "workload/workload.hpp"
+#include "rays/workload.hpp"
 
 namespace fs = std::filesystem;
 

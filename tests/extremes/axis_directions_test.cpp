@@ -10,6 +10,7 @@
 #include <set>
 
 #include "extremes/engine_checks.hpp"
+#include "common/access.hpp"
 #include "kdtree/kd_node.hpp"
 #include "kdtree/test_scenes.hpp"
 #include "vlf/canonical_frame.hpp"
@@ -53,7 +54,7 @@ Float3 random_direction(std::mt19937& rng) {
 std::vector<std::pair<int, float>> split_planes(const Scene& scene, std::size_t limit) {
     const KdTree tree = KdTree::build(scene);
     std::set<std::pair<int, float>> planes;
-    for (const KdNode& n : tree.impl().nodes)
+    for (const KdNode& n : detail::Access::impl(tree).nodes)
         if (!n.is_leaf()) planes.insert({n.axis(), n.split});
     std::vector<std::pair<int, float>> all(planes.begin(), planes.end()), picked;
     const std::size_t step = std::max<std::size_t>(1, all.size() / limit);

@@ -12,7 +12,7 @@
 #include "extremes/engine_checks.hpp"
 #include "extremes/exact_reference.hpp"
 #include "kdtree/test_scenes.hpp"
-#include "workload/ray_set.hpp"
+#include "rays/ray_set.hpp"
 
 namespace beamtrace::test {
 namespace {

@@ -8,7 +8,7 @@
 #include "extremes/exact_reference.hpp"
 #include "oracle/ray_geometry.hpp"
 #include "support/differential.hpp"
-#include "workload/bench_run.hpp"
+#include "experiments/bench_run.hpp"
 
 namespace beamtrace::test {
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "oracle/comparison.hpp"
-#include "workload/engine.hpp"
-#include "workload/workload.hpp"
+#include "engines/engine.hpp"
+#include "rays/workload.hpp"
 
 namespace beamtrace::test {
 

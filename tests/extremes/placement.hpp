@@ -5,7 +5,7 @@
 // with unit_directions they keep their (unit) length and t scales instead.
 #include "beamtrace/ray.hpp"
 #include "scenes/scene_source.hpp"
-#include "workload/ray_set.hpp"
+#include "rays/ray_set.hpp"
 
 namespace beamtrace::test {
 

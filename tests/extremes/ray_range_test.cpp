@@ -15,7 +15,7 @@
 #include "extremes/engine_checks.hpp"
 #include "extremes/exact_reference.hpp"
 #include "support/differential.hpp"
-#include "workload/ray_set.hpp"
+#include "rays/ray_set.hpp"
 
 namespace beamtrace::test {
 namespace {

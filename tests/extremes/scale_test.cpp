@@ -11,7 +11,7 @@
 #include "extremes/engine_checks.hpp"
 #include "extremes/exact_reference.hpp"
 #include "extremes/placement.hpp"
-#include "workload/workload.hpp"
+#include "rays/workload.hpp"
 
 namespace beamtrace::test {
 namespace {

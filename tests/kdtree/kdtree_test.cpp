@@ -140,10 +140,13 @@ TEST(KdTree, AllDegenerateSceneHasNoHits) {
 TEST(KdTree, CountersCountTheSameTraversal) {
     const Scene s = test::random_soup(2000, 13);
     const KdTree tree = KdTree::build(s);
-    TraversalCounters c;
+    QueryCounters c;
     for (const Ray& r : test::random_rays(s.bounds(), 1000, 14)) {
-        const Hit plain = tree.intersect(r), counted = tree.intersect(r, c);
+        Hit counted;
+        tree.intersect(std::span<const Ray>(&r, 1), std::span<Hit>(&counted, 1), QueryOptions{1, &c});
+        const Hit plain = tree.intersect(r);
         ASSERT_EQ(plain.triangle, counted.triangle);
+        ASSERT_EQ(plain.t, counted.t);
     }
     EXPECT_EQ(c.rays, 1000u);
     EXPECT_GT(c.inner_steps, c.leaves);

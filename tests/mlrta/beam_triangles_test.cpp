@@ -59,7 +59,7 @@ TEST(MlrtaBeamTriangles, BlockersAreHitByEveryRayInsideTheirCell) {
         }
         const Beam beam = beam_of(rays);
         ASSERT_TRUE(beam.one_origin);
-        const PacketFrustum f = beam_frustum(beam);
+        const OneOriginFrustum f = beam_frustum(beam);
         ASSERT_TRUE(f.valid);
         const float at = uniform(rng, 0.2f, 3.0f);
         const Triangle tri = across(rng, org, dir, at, uniform(rng, 0.01f, 20.0f), uniform(rng, 0.0f, 0.5f));

@@ -7,7 +7,7 @@
 
 #include "hand_tree.hpp"
 #include "mlrta/entry_point_search.hpp"
-#include "mlrta/interval_traversal.hpp"
+#include "mlrta/entry_point_trace.hpp"
 
 using namespace beamtrace;
 using namespace beamtrace::mlrta;
@@ -27,7 +27,7 @@ enum class Face { quad, overlapping, gap };
 // kLowerHalf: the entry point of beams within x < 1 that do not stop at the face.
 constexpr std::uint32_t kFlatLeaf = 4, kRoot = 0, kLowerHalf = 1, kFirstBehind = 2;
 
-std::shared_ptr<Mlrta::Impl> flat_leaf_tree(Face face, EpSearch order) {
+std::shared_ptr<const Mlrta::Impl> flat_leaf_tree(Face face, EpSearch order) {
     HandTree h({0, 0, 0}, {2, 1, 10});
     std::uint32_t a = 0, b = 0;
     switch (face) {
@@ -54,7 +54,7 @@ std::shared_ptr<Mlrta::Impl> flat_leaf_tree(Face face, EpSearch order) {
     const auto node1 = [&] { h.inner(2, 3.0f, node2, [&] { h.leaf(behind); }); };
     h.inner(0, 1.0f, node1, [&] { h.leaf(beside); });
     MlrtaSettings s;
-    s.ep_search = order;
+    s.experimental.ep_search = order;
     return h.mlrta(s);
 }
 

@@ -9,7 +9,7 @@
 #include "hand_tree.hpp"
 #include "mlrta/entry_point_search.hpp"
 #include "common/triangle_reference.hpp"
-#include "mlrta/interval_traversal.hpp"
+#include "mlrta/entry_point_trace.hpp"
 
 using namespace beamtrace;
 using namespace beamtrace::mlrta;
@@ -63,9 +63,9 @@ std::vector<Ray> random_beam_rays(Rng& rng, const Box& b) {
 
 MlrtaSettings settings(EpSearch order, FrustumTest test, bool ep_triangles = false) {
     MlrtaSettings s;
-    s.ep_search = order;
-    s.frustum_test = test;
-    s.ep_triangles = ep_triangles;
+    s.experimental.ep_search = order;
+    s.experimental.frustum_test = test;
+    s.experimental.ep_triangles = ep_triangles;
     return s;
 }
 
@@ -97,7 +97,7 @@ bool hit_below(const KdTree::Impl& kd, const std::vector<Leaf>& leaves, std::uin
 
 TEST(MlrtaEntryPointProperty, EveryLeafARayPassesLiesBelowTheEntryPoint) {
     const KdTree tree = KdTree::build(random_soup(3000, 61));
-    const std::vector<Leaf> leaves = nonempty_leaves(tree.impl());
+    const std::vector<Leaf> leaves = nonempty_leaves(detail::Access::impl(tree));
     Rng rng(62);
     struct Case {
         std::vector<Ray> rays;
@@ -105,7 +105,7 @@ TEST(MlrtaEntryPointProperty, EveryLeafARayPassesLiesBelowTheEntryPoint) {
     };
     std::vector<Case> cases;
     for (int n = 0; n < 1000; ++n) {
-        Case c{random_beam_rays(rng, tree.impl().bounds), {}};
+        Case c{random_beam_rays(rng, detail::Access::impl(tree).bounds), {}};
         if (n % 10 == 0)  // pointing away from the scene's centre: often nothing at all
             for (Ray& r : c.rays) r.dir = r.dir * -1.0f;
         for (const Leaf& leaf : leaves)
@@ -121,13 +121,13 @@ TEST(MlrtaEntryPointProperty, EveryLeafARayPassesLiesBelowTheEntryPoint) {
             const auto m = make_mlrta(tree, settings(order, test));
             int below_root = 0, misses = 0;
             for (std::size_t n = 0; n < cases.size(); ++n) {
-                const Beam beam = beam_of(cases[n].rays, &tree.impl().bounds);
+                const Beam beam = beam_of(cases[n].rays, &detail::Access::impl(tree).bounds);
                 ASSERT_TRUE(beam.coherent);
                 std::uint64_t steps = 0;
                 const EntryPoint ep = entry_point_search(*m, beam, root_entry(*m), steps);
                 const std::uint32_t first = ep.node, end = ep.node + m->subtree_nodes[ep.node];
-                ASSERT_EQ(ep.box.lower, node_box(tree.impl(), ep.node).lower);
-                ASSERT_EQ(ep.box.upper, node_box(tree.impl(), ep.node).upper);
+                ASSERT_EQ(ep.box.lower, node_box(detail::Access::impl(tree), ep.node).lower);
+                ASSERT_EQ(ep.box.upper, node_box(detail::Access::impl(tree), ep.node).upper);
                 below_root += ep.node != 0 && !ep.misses;
                 misses += ep.misses;
                 for (std::uint32_t leaf : cases[n].met) {
@@ -146,14 +146,14 @@ TEST(MlrtaEntryPointProperty, EveryClosestHitLiesBelowTheEntryPoint) {
     // point's subtree, but never the one where a ray finds its closest hit.
     for (const Scene& scene : {random_soup(3000, 71), box_room(30, 72)}) {
         const KdTree tree = KdTree::build(scene);
-        const std::vector<Leaf> leaves = nonempty_leaves(tree.impl());
+        const std::vector<Leaf> leaves = nonempty_leaves(detail::Access::impl(tree));
         Rng rng(73);
         for (EpSearch order : {EpSearch::bifurcation_stack, EpSearch::top_down}) {
             const auto m = make_mlrta(tree, settings(order, FrustumTest::inverse, true));
             int below_root = 0, blocked = 0, hits = 0;
             for (int n = 0; n < 1500; ++n) {
-                const std::vector<Ray> rays = random_beam_rays(rng, tree.impl().bounds);
-                const Beam beam = beam_of(rays, &tree.impl().bounds);
+                const std::vector<Ray> rays = random_beam_rays(rng, detail::Access::impl(tree).bounds);
+                const Beam beam = beam_of(rays, &detail::Access::impl(tree).bounds);
                 std::uint64_t steps = 0;
                 const EntryPoint ep = entry_point_search(*m, beam, root_entry(*m), steps);
                 const std::uint32_t first = ep.node, end = ep.node + m->subtree_nodes[ep.node];
@@ -173,7 +173,7 @@ TEST(MlrtaEntryPointProperty, EveryClosestHitLiesBelowTheEntryPoint) {
                     const double p[3] = {double(r.org.x) + double(r.dir.x) * h.t, double(r.org.y) + double(r.dir.y) * h.t,
                                          double(r.org.z) + double(r.dir.z) * h.t};
                     const double scale = 1.0 + length(r.org) + length(r.dir) * double(h.t);
-                    ASSERT_TRUE(hit_below(tree.impl(), leaves, first, end, h.triangle, p, scale))
+                    ASSERT_TRUE(hit_below(detail::Access::impl(tree), leaves, first, end, h.triangle, p, scale))
                         << "beam " << n << ": the closest hit on " << h.triangle << " is outside the subtree of "
                         << ep.node << " (order " << int(order) << ")";
                 }
@@ -194,8 +194,8 @@ TEST(MlrtaEntryPointProperty, BothOrdersFindTheSameEntryPoint) {
             Rng rng(65);
             std::uint64_t steps_stack = 0, steps_top_down = 0;
             for (int n = 0; n < 3000; ++n) {
-                const std::vector<Ray> rays = random_beam_rays(rng, tree.impl().bounds);
-                const Beam beam = beam_of(rays, &tree.impl().bounds);
+                const std::vector<Ray> rays = random_beam_rays(rng, detail::Access::impl(tree).bounds);
+                const Beam beam = beam_of(rays, &detail::Access::impl(tree).bounds);
                 // From the root; then the beam of the first half of the rays from the whole beam's
                 // entry point (a sub-tile searching from its parent's entry point).
                 const EntryPoint a = entry_point_search(*stack, beam, root_entry(*stack), steps_stack);
@@ -203,7 +203,7 @@ TEST(MlrtaEntryPointProperty, BothOrdersFindTheSameEntryPoint) {
                 ASSERT_EQ(a.node, b.node) << "beam " << n;
                 ASSERT_EQ(a.misses, b.misses) << "beam " << n;
                 if (a.misses) continue;
-                const Beam part = beam_of(first_rays(rays, rays.size() / 2 + 1), &tree.impl().bounds);
+                const Beam part = beam_of(first_rays(rays, rays.size() / 2 + 1), &detail::Access::impl(tree).bounds);
                 const EntryPoint c = entry_point_search(*stack, part, a, steps_stack);
                 const EntryPoint d = entry_point_search(*top_down, part, b, steps_top_down);
                 ASSERT_EQ(c.node, d.node) << "beam " << n << " part";
@@ -227,8 +227,8 @@ TEST(MlrtaEntryPointProperty, APartResumedFromItsWholesTrailFindsAValidEntryPoin
     for (const bool room : {false, true}) {
         const Scene scene = room ? box_room(30, 82) : random_soup(3000, 81);
         const KdTree tree = KdTree::build(scene);
-        const Box& bounds = tree.impl().bounds;
-        const std::vector<Leaf> leaves = nonempty_leaves(tree.impl());
+        const Box& bounds = detail::Access::impl(tree).bounds;
+        const std::vector<Leaf> leaves = nonempty_leaves(detail::Access::impl(tree));
         for (bool triangles : {false, true})
             for (FrustumTest test : {FrustumTest::inverse, FrustumTest::direct})
                 for (EpSearch order : {EpSearch::bifurcation_stack, EpSearch::top_down}) {
@@ -274,7 +274,7 @@ TEST(MlrtaEntryPointProperty, APartResumedFromItsWholesTrailFindsAValidEntryPoin
                                                      double(r.org.y) + double(r.dir.y) * h.t,
                                                      double(r.org.z) + double(r.dir.z) * h.t};
                                 const double scale = 1.0 + length(r.org) + length(r.dir) * double(h.t);
-                                ASSERT_TRUE(hit_below(tree.impl(), leaves, first, end, h.triangle, p, scale))
+                                ASSERT_TRUE(hit_below(detail::Access::impl(tree), leaves, first, end, h.triangle, p, scale))
                                     << where << " beam " << n << " level " << level << ": the closest hit on "
                                     << h.triangle << " is outside the subtree of " << again.node;
                             }
@@ -293,8 +293,8 @@ TEST(MlrtaEntryPointProperty, EveryClosestHitLiesInTheFirstPotentialLeafOrAfterI
     // that leaf or below one of those children.
     for (const Scene& scene : {random_soup(3000, 91), box_room(30, 92)}) {
         const KdTree tree = KdTree::build(scene);
-        const Box& bounds = tree.impl().bounds;
-        const std::vector<Leaf> leaves = nonempty_leaves(tree.impl());
+        const Box& bounds = detail::Access::impl(tree).bounds;
+        const std::vector<Leaf> leaves = nonempty_leaves(detail::Access::impl(tree));
         for (EpSearch order : {EpSearch::bifurcation_stack, EpSearch::top_down}) {
             const auto m = make_mlrta(tree, settings(order, FrustumTest::inverse, true));
             Rng rng(93);
@@ -324,11 +324,11 @@ TEST(MlrtaEntryPointProperty, EveryClosestHitLiesInTheFirstPotentialLeafOrAfterI
                                              double(r.org.y) + double(r.dir.y) * h.t,
                                              double(r.org.z) + double(r.dir.z) * h.t};
                         const double scale = 1.0 + length(r.org) + length(r.dir) * double(h.t);
-                        bool found = hit_below(tree.impl(), leaves, trail.first.node, trail.first.node + 1,
+                        bool found = hit_below(detail::Access::impl(tree), leaves, trail.first.node, trail.first.node + 1,
                                                h.triangle, p, scale);
                         for (int j = 0; j < trail.count && !found; ++j) {
                             const std::uint32_t other = trail.bif.at[j].other.node;
-                            found = hit_below(tree.impl(), leaves, other, other + m->subtree_nodes[other], h.triangle,
+                            found = hit_below(detail::Access::impl(tree), leaves, other, other + m->subtree_nodes[other], h.triangle,
                                               p, scale);
                         }
                         ASSERT_TRUE(found) << "beam " << n << " level " << level << ": the closest hit on "

@@ -9,7 +9,7 @@
 
 #include "hand_tree.hpp"
 #include "mlrta/entry_point_search.hpp"
-#include "mlrta/interval_traversal.hpp"
+#include "mlrta/entry_point_trace.hpp"
 
 using namespace beamtrace;
 using namespace beamtrace::mlrta;
@@ -22,7 +22,7 @@ namespace {
 // crossed (both children), near (lower) child first.
 struct Figure6 {
     std::uint32_t n1, n21, n22, n31, n32, n41, n42, n43, n44, n51, n52, n53, n54, n61, n62, n63, n64;
-    std::shared_ptr<Mlrta::Impl> m;
+    std::shared_ptr<const Mlrta::Impl> m;
 };
 
 // `extra` further levels of z splits below node 82 make the abandoned subtree of 64 larger.
@@ -74,8 +74,8 @@ Figure6 figure6(int extra, const MlrtaSettings& settings) {
 
 MlrtaSettings with(EpSearch order, FrustumTest test = FrustumTest::inverse) {
     MlrtaSettings s;
-    s.ep_search = order;
-    s.frustum_test = test;
+    s.experimental.ep_search = order;
+    s.experimental.frustum_test = test;
     return s;
 }
 
@@ -111,7 +111,7 @@ EntryPoint search(const Mlrta::Impl& m, const Packet16& p, std::uint64_t& steps)
 // Interval traversal from the entry point finds, lane by lane, what the kd-tree finds from the root.
 void expect_exact_from(const Mlrta::Impl& m, const Packet16& p, const EntryPoint& ep) {
     PacketHits16 hits;
-    MlrtaCounters counters;
+    QueryCounters counters;
     trace_packet<false, true>(m, p, ep, &hits, nullptr, &counters);
     EXPECT_EQ(counters.single_rays, 0u) << "the packet went through interval traversal";
     for (int i = 0; i < 16; ++i) EXPECT_TRUE(same_hit(m.tree, p.ray(i), hits.hit(i))) << "lane " << i;

@@ -4,7 +4,6 @@
 
 #include "common/triangle_kernels.hpp"
 #include "common/triangle_reference.hpp"
-#include "mlrta/covered_leaves.hpp"
 
 namespace beamtrace::mlrta::test {
 
@@ -44,19 +43,15 @@ KdTree HandTree::tree() const {
     impl->triangle_ids = ids_;
     impl->gather_leaf_triangles();
     impl->kernels = &triangle_kernels();
-    return KdTree::from_impl(impl);
+    return detail::Access::make_tree(impl);
 }
 
-std::shared_ptr<Mlrta::Impl> HandTree::mlrta(const MlrtaSettings& settings) const {
+std::shared_ptr<const Mlrta::Impl> HandTree::mlrta(const MlrtaSettings& settings) const {
     return make_mlrta(tree(), settings);
 }
 
-std::shared_ptr<Mlrta::Impl> make_mlrta(const KdTree& tree, const MlrtaSettings& settings) {
-    auto m = std::make_shared<Mlrta::Impl>(tree, settings);
-    m->subtree_nodes = subtree_sizes(tree.impl());
-    m->covered_leaf = covered_flat_leaves(tree.impl());
-    m->geometry_boxes = leaf_geometry_boxes(tree.impl());
-    return m;
+std::shared_ptr<const Mlrta::Impl> make_mlrta(const KdTree& tree, const MlrtaSettings& settings) {
+    return detail::Access::share(Mlrta(tree, settings));
 }
 
 namespace {

@@ -15,6 +15,7 @@
 #include "kdtree/kd_node.hpp"
 #include "mlrta/beam.hpp"
 #include "mlrta/entry_point.hpp"
+#include "common/access.hpp"
 #include "mlrta/mlrta_impl.hpp"
 
 namespace beamtrace::mlrta::test {
@@ -33,7 +34,7 @@ public:
 
     // The tree (valid once every node is written) and MLRTA's state over it, tables included.
     KdTree tree() const;
-    std::shared_ptr<Mlrta::Impl> mlrta(const MlrtaSettings& settings = {}) const;
+    std::shared_ptr<const Mlrta::Impl> mlrta(const MlrtaSettings& settings = {}) const;
 
 private:
     Box bounds_;
@@ -44,7 +45,7 @@ private:
 };
 
 // MLRTA's state over a tree built by KdTree::build (what the public Mlrta constructor does).
-std::shared_ptr<Mlrta::Impl> make_mlrta(const KdTree& tree, const MlrtaSettings& settings = {});
+std::shared_ptr<const Mlrta::Impl> make_mlrta(const KdTree& tree, const MlrtaSettings& settings = {});
 
 // The box of node `index` (the root's box split down the path to it).
 Box node_box(const KdTree::Impl& tree, std::uint32_t index);

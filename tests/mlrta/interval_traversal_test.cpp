@@ -9,7 +9,7 @@
 
 #include "hand_tree.hpp"
 #include "mlrta/entry_point_search.hpp"
-#include "mlrta/interval_traversal.hpp"
+#include "mlrta/entry_point_trace.hpp"
 
 using namespace beamtrace;
 using namespace beamtrace::mlrta;
@@ -19,7 +19,7 @@ namespace {
 
 struct World {
     KdTree tree;
-    std::shared_ptr<Mlrta::Impl> m;
+    std::shared_ptr<const Mlrta::Impl> m;
     explicit World(const Scene& s, const MlrtaSettings& settings = {})
         : tree(KdTree::build(s)), m(make_mlrta(tree, settings)) {}
 };
@@ -51,7 +51,7 @@ EntryPoint packet_entry(const Mlrta::Impl& m, const Packet16& p) {
 
 // Closest hits and occlusion of every lane from `ep` against the kd-tree; inactive lanes: nothing.
 ::testing::AssertionResult exact_from(const Mlrta::Impl& m, const Packet16& p, const EntryPoint& ep,
-                                      MlrtaCounters& counters) {
+                                      QueryCounters& counters) {
     PacketHits16 hits;
     std::uint32_t occluded = 0xFFFFFFFFu;
     trace_packet<false, true>(m, p, ep, &hits, nullptr, &counters);
@@ -77,7 +77,7 @@ EntryPoint packet_entry(const Mlrta::Impl& m, const Packet16& p) {
 TEST(MlrtaIntervalTraversal, CoherentPacketsFromRootAndEntryPointEqualKdTree) {
     const World w(random_soup(3000, 31));
     Rng rng(32);
-    MlrtaCounters root_counters, ep_counters;
+    QueryCounters root_counters, ep_counters;
     int deep = 0, hits = 0;
     for (int n = 0; n < 3000; ++n) {
         Packet16 p = coherent_packet(rng, w.m->kd().bounds, n % 2 == 0);
@@ -98,7 +98,7 @@ TEST(MlrtaIntervalTraversal, CoherentPacketsFromRootAndEntryPointEqualKdTree) {
         for (int i = 0; i < 16; ++i) hits += w.tree.intersect(p.ray(i)).hit();
     }
     EXPECT_EQ(root_counters.single_rays, 0u) << "every packet went through interval traversal";
-    EXPECT_GT(root_counters.xp_steps, 3000u * 2);
+    EXPECT_GT(root_counters.packet_steps, 3000u * 2);
     EXPECT_GT(deep, 600) << "entry points below the root";
     EXPECT_GT(hits, 3000 * 16 / 4);
 }
@@ -107,13 +107,13 @@ TEST(MlrtaIntervalTraversal, CameraPacketsEqualKdTree) {
     const World w(box_room(30, 33));
     for (EpSearch order : {EpSearch::bifurcation_stack, EpSearch::top_down}) {
         MlrtaSettings s;
-        s.ep_search = order;
+        s.experimental.ep_search = order;
         const auto m = make_mlrta(w.tree, s);
         const Camera cams[] = {
             {{4.1f, 0.7f, 2.3f}, {0.2f, 1.0f, -0.25f}, {0.008f, -0.0016f, 0}, {0, 0.0003f, 0.008f}, 64, 64},
             {{-3.0f, -2.0f, 6.0f}, {1.0f, 0.9f, -0.8f}, {0.004f, -0.0044f, 0}, {0.002f, 0.002f, 0.005f}, 64, 48},
         };
-        MlrtaCounters counters;
+        QueryCounters counters;
         for (const Camera& cam : cams) {
             const std::vector<Packet16> packets = cam.packets();
             for (std::size_t n = 0; n < packets.size(); ++n) {
@@ -121,7 +121,7 @@ TEST(MlrtaIntervalTraversal, CameraPacketsEqualKdTree) {
                 ASSERT_TRUE(exact_from(*m, packets[n], packet_entry(*m, packets[n]), counters)) << "packet " << n;
             }
         }
-        EXPECT_GT(counters.xp_steps, 0u);
+        EXPECT_GT(counters.packet_steps, 0u);
     }
 }
 
@@ -137,20 +137,20 @@ TEST(MlrtaIntervalTraversal, InactiveLanesReportNothing) {
                 p.dir_y[i] = n % 2 ? 0.0f : -p.dir_y[i];
                 p.tfar[i] = -1.0f;
             }
-        MlrtaCounters counters;
+        QueryCounters counters;
         ASSERT_TRUE(exact_from(*w.m, p, root_entry(*w.m), counters)) << "packet " << n;
         ASSERT_TRUE(exact_from(*w.m, p, packet_entry(*w.m, p), counters)) << "packet " << n;
     }
     Packet16 none = coherent_packet(rng, w.m->kd().bounds, true);
     none.active = 0;
-    MlrtaCounters counters;
+    QueryCounters counters;
     EXPECT_TRUE(exact_from(*w.m, none, root_entry(*w.m), counters));
 }
 
 TEST(MlrtaIntervalTraversal, DivergentPacketsEqualKdTree) {
     const World w(random_soup(3000, 36));
     Rng rng(37);
-    MlrtaCounters counters;
+    QueryCounters counters;
     for (int n = 0; n < 800; ++n) {
         Packet16 p = coherent_packet(rng, w.m->kd().bounds, n % 2 == 0);
         // Flip one or two components of some lanes: two to four sign octants in one packet; one
@@ -164,7 +164,7 @@ TEST(MlrtaIntervalTraversal, DivergentPacketsEqualKdTree) {
         }
         ASSERT_TRUE(exact_from(*w.m, p, root_entry(*w.m), counters)) << "packet " << n;
     }
-    EXPECT_GT(counters.xp_steps, 0u);
+    EXPECT_GT(counters.packet_steps, 0u);
     EXPECT_GT(counters.single_rays, 0u);
     // Entirely scattered directions.
     for (int n = 0; n < 300; ++n) {
@@ -190,7 +190,7 @@ TEST(MlrtaIntervalTraversal, ZeroAndNegativeZeroComponentsEqualKdTree) {
             dir[k][i] = (i + n) % 2 ? 0.0f : -0.0f;
             if (n % 2) org[k][i] = std::round(org[k][i]);  // exactly on a plane of box faces
         }
-        MlrtaCounters counters;
+        QueryCounters counters;
         ASSERT_TRUE(exact_from(*w.m, p, root_entry(*w.m), counters)) << "packet " << n;
         EXPECT_GE(counters.single_rays, 2u * 3u) << "the three lanes went alone (closest hit and occlusion)";
         ASSERT_TRUE(exact_from(*w.m, p, packet_entry(*w.m, p), counters)) << "packet " << n;
@@ -215,7 +215,7 @@ TEST(MlrtaIntervalTraversal, ReversedShadowRaysGiveTheSameOcclusion) {
     const Mlrta mlrta(tree);
     Rng rng(41);
     int occluded = 0, free = 0;
-    MlrtaCounters counters;
+    QueryCounters counters;
     for (int n = 0; n < 1500; ++n) {
         const Float3 light{uniform(rng, -0.5f, 1.5f), uniform(rng, -0.5f, 1.5f), uniform(rng, 1.2f, 2.0f)};
         const Float3 patch{uniform(rng, 0, 1), uniform(rng, 0, 1), uniform(rng, -0.3f, 0.5f)};
@@ -227,7 +227,8 @@ TEST(MlrtaIntervalTraversal, ReversedShadowRaysGiveTheSameOcclusion) {
             from_light.set_ray(i, reversed(r));
         }
         shadow.active = from_light.active = 0xFFFFu;
-        const std::uint32_t bits = mlrta.occluded_packet(from_light, &counters);
+        std::uint32_t bits = 0;
+        mlrta.occluded(std::span<const Packet16>(&from_light, 1), std::span<std::uint32_t>(&bits, 1), QueryOptions{1, &counters});
         for (int i = 0; i < 16; ++i) {
             const bool got = (bits >> i) & 1u;
             ASSERT_TRUE(same_occlusion(tree, shadow.ray(i), got)) << "packet " << n << " lane " << i;
@@ -236,19 +237,19 @@ TEST(MlrtaIntervalTraversal, ReversedShadowRaysGiveTheSameOcclusion) {
     }
     EXPECT_GT(occluded, 1000);
     EXPECT_GT(free, 1000);
-    EXPECT_GT(counters.xp_steps, 0u);
+    EXPECT_GT(counters.packet_steps, 0u);
 }
 
 // Triangle culling (on by default): the frustum test on triangle corners for one-origin packets.
 // It may only skip triangles no ray can hit.
 TEST(MlrtaIntervalTraversal, TriangleCullingKeepsEveryHit) {
     MlrtaSettings s;
-    s.triangle_culling = true;
+    s.experimental.triangle_culling = true;
     const World w(random_soup(3000, 42), s);
     Rng rng(43);
-    MlrtaCounters on, off;
+    QueryCounters on, off;
     MlrtaSettings no_culling;
-    no_culling.triangle_culling = false;
+    no_culling.experimental.triangle_culling = false;
     const auto plain = make_mlrta(w.tree, no_culling);
     for (int n = 0; n < 1500; ++n) {
         Packet16 p = coherent_packet(rng, w.m->kd().bounds, n % 2 == 0);

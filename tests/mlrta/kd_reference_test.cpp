@@ -52,20 +52,22 @@ TEST(MlrtaReference, KdTreeEqualsBruteForceAtABoxEdge) {
 // Interval traversal widens its cell intervals, so it finds the brute-force answer there.
 TEST(MlrtaReference, IntervalTraversalEqualsBruteForceAtABoxEdge) {
     const Scene scene = box_at_the_edge();
-    const Mlrta mlrta(KdTree::build(scene));
+    const KdTree tree = KdTree::build(scene);
     const Hit exact = intersect_brute_force(scene, kRay);
     Packet16 p;
     for (int i = 0; i < 16; ++i) p.set_ray(i, kRay);
     p.active = 0xFFFFu;
     PacketHits16 hits;
-    MlrtaCounters counters;
-    mlrta.intersect_packet(p, hits, &counters);
-    EXPECT_GT(counters.xp_steps, 0u);
+    QueryCounters counters;
+    tree.intersect(std::span<const Packet16>(&p, 1), std::span<PacketHits16>(&hits, 1), QueryOptions{1, &counters});
+    EXPECT_GT(counters.packet_steps, 0u);
     EXPECT_EQ(counters.single_rays, 0u);
     for (int i = 0; i < 16; ++i) {
         EXPECT_EQ(hits.t[i], exact.t) << "lane " << i;
         EXPECT_EQ(hits.triangle[i], exact.triangle) << "lane " << i;
     }
     for (int i = 0; i < 16; ++i) p.tfar[i] = exact.t;
-    EXPECT_EQ(mlrta.occluded_packet(p), 0xFFFFu);
+    std::uint32_t bits = 0;
+    tree.occluded(std::span<const Packet16>(&p, 1), std::span<std::uint32_t>(&bits, 1));
+    EXPECT_EQ(bits, 0xFFFFu);
 }

@@ -1,14 +1,15 @@
-// The per-lane slab test of leaf boxes (lane_slabs.hpp): the SIMD kernels return exactly the scalar
+// The per-lane slab test of leaf boxes (kdtree/packet/lane_box_test.hpp): the SIMD kernels return exactly the scalar
 // reference's lanes, and no ray whose segment meets the box (exact double-precision test) is dropped.
 #include <gtest/gtest.h>
 
 #include <vector>
 
 #include "hand_tree.hpp"
-#include "mlrta/lane_slabs.hpp"
+#include "kdtree/packet/packet_kernels.hpp"
 
 using namespace beamtrace;
 using namespace beamtrace::mlrta;
+using namespace beamtrace::kdtree;
 using namespace beamtrace::mlrta::test;
 
 namespace {
@@ -63,11 +64,11 @@ TEST(MlrtaLaneSlabs, KernelsEqualTheReferenceAndDropNoRayThatMeetsTheBox) {
     std::vector<Case> cases;
     for (int n = 0; n < 30000; ++n) cases.push_back(random_case(rng));
     for (Isa isa : isas()) {
-        const LaneBoxKernel kernel = lane_box_kernel(isa);
+        const LaneBoxKernel kernel = beamtrace::simd::select<PacketKernels>(isa).lane_box;
         std::uint64_t met = 0, dropped = 0;
         for (std::size_t n = 0; n < cases.size(); ++n) {
             const Case& c = cases[n];
-            const LaneSlabs s = make_lane_slabs(c.packet, 1e-6f);
+            const LaneBoxRays s = make_lane_box_rays(c.packet, 1e-6f);
             const std::uint32_t bits = kernel(s, c.packet.tfar, c.packet.active, c.box);
             ASSERT_EQ(bits, lanes_meeting_box(s, c.packet.tfar, c.packet.active, c.box)) << isa_name(isa) << " case " << n;
             ASSERT_EQ(bits & ~c.packet.active, 0u);

@@ -7,10 +7,10 @@
 
 #include "common/triangle_reference.hpp"
 #include "common/watertight_ray.hpp"
-#include "mlrta/packet_frustum.hpp"
+#include "kdtree/packet/packet_kernels.hpp"
 
 using namespace beamtrace;
-using namespace beamtrace::mlrta;
+using namespace beamtrace::kdtree;
 
 namespace {
 
@@ -64,12 +64,12 @@ std::vector<Isa> isas() {
 
 TEST(MlrtaPacketFrustum, KernelsDecideExactlyAsTheScalarReference) {
     for (Isa isa : isas()) {
-        const FrustumCullKernel kernel = frustum_cull_kernel(isa);
+        const FrustumCullKernel kernel = beamtrace::simd::select<PacketKernels>(isa).frustum_cull;
         Generator gen(11 + unsigned(isa));
         std::uint64_t culled = 0, decided = 0;
         for (int iter = 0; iter < 20000; ++iter) {
             const Packet16 p = gen.packet(iter % 3 == 0 ? 1000.0f : 3.0f);
-            const PacketFrustum f = make_packet_frustum(p, p.active);
+            const OneOriginFrustum f = make_one_origin_frustum(p, p.active);
             ASSERT_TRUE(f.valid);
             std::vector<Triangle> tris;
             for (int i = 0; i < 40; ++i) tris.push_back(gen.triangle_near(p));
@@ -95,7 +95,7 @@ TEST(MlrtaPacketFrustum, NeverCullsATriangleThatARayOfThePacketHits) {
     std::uint64_t hit_triangles = 0, culled = 0;
     for (int iter = 0; iter < 30000; ++iter) {
         const Packet16 p = gen.packet(iter % 2 == 0 ? 5000.0f : 2.0f);
-        const PacketFrustum f = make_packet_frustum(p, p.active);
+        const OneOriginFrustum f = make_one_origin_frustum(p, p.active);
         for (int k = 0; k < 8; ++k) {
             // Triangles around one ray's path, small enough to be missed by the others.
             const Ray r = p.ray(__builtin_ctz(p.active));
@@ -122,9 +122,9 @@ TEST(MlrtaPacketFrustum, NeverCullsATriangleThatARayOfThePacketHits) {
 TEST(MlrtaPacketFrustum, OnlyForPacketsWithOneOrigin) {
     Generator gen(5);
     Packet16 p = gen.packet(1.0f);
-    EXPECT_TRUE(make_packet_frustum(p, p.active).valid);
+    EXPECT_TRUE(make_one_origin_frustum(p, p.active).valid);
     p.org_x[3] += 0.5f;
-    EXPECT_FALSE(make_packet_frustum(p, 0xFFFFu).valid);
-    EXPECT_TRUE(make_packet_frustum(p, 0xFFF7u).valid) << "lane 3 is not part of the group";
-    EXPECT_FALSE(make_packet_frustum(p, 0u).valid);
+    EXPECT_FALSE(make_one_origin_frustum(p, 0xFFFFu).valid);
+    EXPECT_TRUE(make_one_origin_frustum(p, 0xFFF7u).valid) << "lane 3 is not part of the group";
+    EXPECT_FALSE(make_one_origin_frustum(p, 0u).valid);
 }

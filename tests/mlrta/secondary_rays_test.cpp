@@ -29,10 +29,10 @@ std::vector<MlrtaSettings> settings_list() {
                         s.split_factor = sf;
                         s.initial_tile = its;
                         s.min_tile = mts;
-                        s.frustum_test = ft;
-                        s.ep_search = order;
-                        s.triangle_culling = out.size() % 3 == 1;  // mixed in, not a full product
-                        s.stop_when_stuck = out.size() % 5 != 0;
+                        s.experimental.frustum_test = ft;
+                        s.experimental.ep_search = order;
+                        s.experimental.triangle_culling = out.size() % 3 == 1;  // mixed in, not a full product
+                        s.experimental.stop_when_stuck = out.size() % 5 != 0;
                         out.push_back(s);
                     }
     return out;
@@ -74,8 +74,8 @@ TEST(MlrtaSecondaryRays, ShadowRaysFromAPointLightEqualKdTree) {
     for (const MlrtaSettings& s : settings_list()) {
         const Mlrta mlrta(tree, s);
         std::vector<std::uint32_t> occluded(shadow.size(), 0xFFFFFFFFu);
-        MlrtaCounters counters;
-        mlrta.occluded(grid, occluded.data(), 1 + run++ % 2, &counters);
+        QueryCounters counters;
+        mlrta.occluded(grid, occluded, QueryOptions{1 + run++ % 2, &counters});
         for (std::size_t p = 0; p < shadow.size(); ++p) {
             ASSERT_EQ(occluded[p] & ~shadow[p].active, 0u) << "inactive lanes of packet " << p;
             for (int i = 0; i < 16; ++i) {
@@ -85,7 +85,7 @@ TEST(MlrtaSecondaryRays, ShadowRaysFromAPointLightEqualKdTree) {
                 (got ? dark : lit) += 1;
             }
         }
-        EXPECT_GT(counters.xp_steps, 0u);
+        EXPECT_GT(counters.packet_steps, 0u);
     }
     EXPECT_GT(lit, 1000);
     EXPECT_GT(dark, 1000);
@@ -107,8 +107,8 @@ TEST(MlrtaSecondaryRays, FloorReflectionsEqualKdTree) {
     for (const MlrtaSettings& s : settings_list()) {
         const Mlrta mlrta(tree, s);
         std::vector<PacketHits16> got(mirror.size());
-        MlrtaCounters counters;
-        mlrta.intersect(grid, got.data(), 1 + run++ % 2, &counters);
+        QueryCounters counters;
+        mlrta.intersect(grid, got, QueryOptions{1 + run++ % 2, &counters});
         for (std::size_t p = 0; p < mirror.size(); ++p)
             for (int i = 0; i < 16; ++i) {
                 if (!((mirror[p].active >> i) & 1u)) {
@@ -118,7 +118,7 @@ TEST(MlrtaSecondaryRays, FloorReflectionsEqualKdTree) {
                 ASSERT_TRUE(same_hit(tree, mirror[p].ray(i), got[p].hit(i))) << "packet " << p << " lane " << i;
                 hits += got[p].hit(i).hit();
             }
-        EXPECT_GT(counters.ep_steps, 0u);
+        EXPECT_GT(counters.mlrta.ep_steps, 0u);
     }
     EXPECT_GT(hits, 1000);
 }

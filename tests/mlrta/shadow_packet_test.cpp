@@ -6,9 +6,11 @@
 #include <cstring>
 
 #include "beamtrace/mlrta.hpp"
+#include "mlrta/shadow_reversal.hpp"
 #include "hand_tree.hpp"
 
 using namespace beamtrace;
+using beamtrace::mlrta::reverse_towards_light;
 using namespace beamtrace::mlrta::test;
 
 namespace {

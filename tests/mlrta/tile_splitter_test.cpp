@@ -82,7 +82,7 @@ struct Image {
     const int min_side = s.min_tile / 4;
     for (const TileInfo& t : tiles) {
         if (t.x1 - t.x0 <= min_side && t.y1 - t.y0 <= min_side) continue;
-        if (t.subtree_nodes != 0 && !tree.impl().nodes[t.entry_node].is_leaf())
+        if (t.subtree_nodes != 0 && !detail::Access::impl(tree).nodes[t.entry_node].is_leaf())
             return ::testing::AssertionFailure() << "tile " << t.x0 << "," << t.y0 << " - " << t.x1 << "," << t.y1
                                                  << " not split though its entry point " << t.entry_node << " is inner";
     }
@@ -92,8 +92,8 @@ struct Image {
 // Runs every setting; counts in covered_entries the tiles (over all runs) whose entry point is a
 // covered flat leaf.
 void run_every_setting(const KdTree& tree, const Image& img, int& covered_entries) {
-    const std::vector<std::uint32_t> subtree = subtree_sizes(tree.impl());
-    const std::vector<std::uint8_t> covered = covered_flat_leaves(tree.impl());
+    const std::vector<std::uint32_t> subtree = subtree_sizes(detail::Access::impl(tree));
+    const std::vector<std::uint8_t> covered = covered_flat_leaves(detail::Access::impl(tree));
     int runs = 0;
     covered_entries = 0;
     for (int sf : {4, 16})
@@ -108,12 +108,12 @@ void run_every_setting(const KdTree& tree, const Image& img, int& covered_entrie
                                 s.split_factor = sf;
                                 s.initial_tile = its;
                                 s.min_tile = mts;
-                                s.frustum_test = ft;
-                                s.ep_search = order;
-                                s.stop_when_stuck = stuck;
-                                s.triangle_culling = (threads == 2) != stuck;  // mixed in, not a full product
-                                s.ep_resume = (threads == 1) != (order == EpSearch::top_down);
-                                s.retry_stuck = (sf == 16) != (ft == FrustumTest::direct);
+                                s.experimental.frustum_test = ft;
+                                s.experimental.ep_search = order;
+                                s.experimental.stop_when_stuck = stuck;
+                                s.experimental.triangle_culling = (threads == 2) != stuck;  // mixed in, not a full product
+                                s.experimental.ep_resume = (threads == 1) != (order == EpSearch::top_down);
+                                s.experimental.retry_stuck = (sf == 16) != (ft == FrustumTest::direct);
                                 const Mlrta mlrta(tree, s);
                                 std::vector<PacketHits16> hits(img.packets.size());
                                 std::vector<TileInfo> tiles;
@@ -122,8 +122,8 @@ void run_every_setting(const KdTree& tree, const Image& img, int& covered_entrie
                                     const std::lock_guard<std::mutex> guard(lock);
                                     tiles.push_back(t);
                                 };
-                                MlrtaCounters counters;
-                                mlrta.intersect(img.grid, hits.data(), threads, &counters, observe);
+                                QueryCounters counters;
+                                mlrta.intersect(img.grid, hits, QueryOptions{threads, &counters}, observe);
                                 const std::string where = "SF " + std::to_string(sf) + " ITS " + std::to_string(its) +
                                                           " MTS " + std::to_string(mts) + " direct " +
                                                           std::to_string(ft == FrustumTest::direct) + " order " +
@@ -136,12 +136,12 @@ void run_every_setting(const KdTree& tree, const Image& img, int& covered_entrie
                                 if (!stuck) {
                                     ASSERT_TRUE(split_until_leaf(tiles, tree, s)) << where;
                                 }
-                                ASSERT_EQ(counters.tiles, tiles.size()) << where;
+                                ASSERT_EQ(counters.mlrta.tiles, tiles.size()) << where;
                                 ASSERT_EQ(counters.packets, img.packets.size()) << where;
 
                                 const PacketGrid short_grid{img.short_packets.data(), img.grid.columns, img.grid.rows};
                                 std::vector<std::uint32_t> occluded(img.packets.size(), 0xDEADBEEFu);
-                                mlrta.occluded(short_grid, occluded.data(), threads);
+                                mlrta.occluded(short_grid, occluded, QueryOptions{threads, nullptr});
                                 for (std::size_t p = 0; p < occluded.size(); ++p)
                                     for (int i = 0; i < 16; ++i) {
                                         if (!(((occluded[p] ^ img.shade[p]) >> i) & 1u)) continue;
@@ -193,19 +193,19 @@ TEST(MlrtaTileSplitter, ResumedSearchesAndTraversalsGiveTheSameAnswersInFewerSte
         for (EpSearch order : {EpSearch::bifurcation_stack, EpSearch::top_down}) {
             MlrtaSettings s;
             s.initial_tile = 64;
-            s.stop_when_stuck = stuck > 0;
-            s.retry_stuck = stuck == 2;
-            s.ep_search = order;
+            s.experimental.stop_when_stuck = stuck > 0;
+            s.experimental.retry_stuck = stuck == 2;
+            s.experimental.ep_search = order;
             std::vector<PacketHits16> hits[2];
             std::vector<std::uint32_t> occluded[2];
-            MlrtaCounters counters[2];
+            QueryCounters counters[2];
             for (int resume = 0; resume < 2; ++resume) {
-                s.ep_resume = resume == 1;
+                s.experimental.ep_resume = resume == 1;
                 const Mlrta mlrta(tree, s);
                 hits[resume].resize(img.packets.size());
                 occluded[resume].assign(img.packets.size(), 0u);
-                mlrta.intersect(img.grid, hits[resume].data(), 1, &counters[resume]);
-                mlrta.occluded(short_grid, occluded[resume].data(), 1);
+                mlrta.intersect(img.grid, hits[resume], QueryOptions{1, &counters[resume]});
+                mlrta.occluded(short_grid, occluded[resume]);
             }
             const std::string where = "stuck " + std::to_string(stuck) + " order " + std::to_string(int(order));
             ASSERT_TRUE(same_as_kd(tree, img, hits[1])) << where;
@@ -221,8 +221,8 @@ TEST(MlrtaTileSplitter, ResumedSearchesAndTraversalsGiveTheSameAnswersInFewerSte
             // Searches may take a few more steps here (a soup seen from outside: short walks to the
             // first potential leaf, which the trail's tests cost as much as); traversal takes fewer,
             // and so do both together.
-            EXPECT_LT(counters[1].xp_steps, counters[0].xp_steps) << where;
-            EXPECT_LT(counters[1].xp_steps + counters[1].ep_steps, counters[0].xp_steps + counters[0].ep_steps) << where;
+            EXPECT_LT(counters[1].packet_steps, counters[0].packet_steps) << where;
+            EXPECT_LT(counters[1].packet_steps + counters[1].mlrta.ep_steps, counters[0].packet_steps + counters[0].mlrta.ep_steps) << where;
             EXPECT_LE(counters[1].triangle_tests, counters[0].triangle_tests) << where;
         }
 }
@@ -246,8 +246,8 @@ TEST(MlrtaTileSplitter, ZeroComponentsAndInactiveRaysEqualKdTree) {
     for (int threads : {1, 2}) {
         const Mlrta mlrta(tree, MlrtaSettings{});
         std::vector<PacketHits16> hits(img.packets.size());
-        MlrtaCounters counters;
-        mlrta.intersect(img.grid, hits.data(), threads, &counters);
+        QueryCounters counters;
+        mlrta.intersect(img.grid, hits, QueryOptions{threads, &counters});
         EXPECT_TRUE(same_as_kd(tree, img, hits)) << "threads " << threads;
         EXPECT_GT(counters.single_rays, 0u);
     }
@@ -270,10 +270,10 @@ TEST(MlrtaTileSplitter, DivergentOnlyWhenSignsDiffer) {
         const Mlrta mlrta(tree, s);
         std::vector<PacketHits16> hits(img.packets.size());
         std::vector<TileInfo> tiles;
-        MlrtaCounters counters;
-        mlrta.intersect(img.grid, hits.data(), 1, &counters, [&](const TileInfo& t) { tiles.push_back(t); });
+        QueryCounters counters;
+        mlrta.intersect(img.grid, hits, QueryOptions{1, &counters}, [&](const TileInfo& t) { tiles.push_back(t); });
         ASSERT_TRUE(same_as_kd(tree, img, hits));
-        EXPECT_EQ(counters.divergent_tiles, 0u) << "ITS " << s.initial_tile << " MTS " << s.min_tile;
+        EXPECT_EQ(counters.mlrta.divergent_tiles, 0u) << "ITS " << s.initial_tile << " MTS " << s.min_tile;
         int divergent = 0;
         for (const TileInfo& t : tiles) divergent += t.divergent;
         EXPECT_EQ(divergent, 0) << "of " << tiles.size() << " tiles, ITS " << s.initial_tile << " MTS " << s.min_tile;
@@ -314,11 +314,18 @@ TEST(MlrtaTileSplitter, SettingsValidationNamesTheSetting) {
     std::vector<Packet16> packets(4);
     std::vector<PacketHits16> hits(4);
     try {
-        mlrta.intersect(PacketGrid{packets.data(), 2, 2}, hits.data(), 0);
+        mlrta.intersect(PacketGrid{packets.data(), 2, 2}, hits, QueryOptions{0, nullptr});
         ADD_FAILURE() << "threads = 0 accepted";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("threads"), std::string::npos) << e.what();
     }
-    EXPECT_THROW(mlrta.intersect(PacketGrid{packets.data(), -1, 2}, hits.data()), Error);
-    EXPECT_THROW(mlrta.intersect(PacketGrid{nullptr, 2, 2}, hits.data()), Error);
+    EXPECT_THROW(mlrta.intersect(PacketGrid{packets.data(), -1, 2}, hits), Error);
+    EXPECT_THROW(mlrta.intersect(PacketGrid{nullptr, 2, 2}, hits), Error);
+    // One answer per packet of the grid: a span of another size is refused, naming the sizes.
+    try {
+        mlrta.intersect(PacketGrid{packets.data(), 2, 1}, hits);
+        ADD_FAILURE() << "4 answers accepted for 2 packets";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("2 inputs but room for 4"), std::string::npos) << e.what();
+    }
 }

@@ -9,7 +9,7 @@
 
 #include "beamtrace/error.hpp"
 #include "beamtrace/vlf.hpp"
-#include "workload/bench_run.hpp"
+#include "experiments/bench_run.hpp"
 
 using namespace beamtrace;
 using namespace beamtrace::workload;

@@ -9,7 +9,7 @@
 
 #include "oracle/comparison.hpp"
 #include "support/differential.hpp"
-#include "workload/bench_run.hpp"
+#include "experiments/bench_run.hpp"
 
 using namespace beamtrace;
 using namespace beamtrace::workload;

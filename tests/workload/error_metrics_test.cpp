@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "beamtrace/error.hpp"
-#include "workload/error_metrics.hpp"
-#include "workload/ray_set.hpp"
+#include "experiments/error_metrics.hpp"
+#include "rays/ray_set.hpp"
 
 using namespace beamtrace;
 using namespace beamtrace::workload;

@@ -7,7 +7,7 @@
 
 #include "oracle/comparison.hpp"
 #include "support/differential.hpp"
-#include "workload/bench_run.hpp"
+#include "experiments/bench_run.hpp"
 
 using namespace beamtrace;
 using namespace beamtrace::workload;
@@ -39,10 +39,10 @@ TEST_P(Differential, EnginesAgreeWithEmbree) {
     // MLRTA with every non-default choice: no triangle culling, the direct frustum test, the paper's
     // bifurcation-stack order, splitting down to the minimum size, split factor 4.
     EngineOptions variant;
-    variant.mlrta.triangle_culling = false;
-    variant.mlrta.frustum_test = FrustumTest::direct;
-    variant.mlrta.ep_search = EpSearch::bifurcation_stack;
-    variant.mlrta.stop_when_stuck = false;
+    variant.mlrta.experimental.triangle_culling = false;
+    variant.mlrta.experimental.frustum_test = FrustumTest::direct;
+    variant.mlrta.experimental.ep_search = EpSearch::bifurcation_stack;
+    variant.mlrta.experimental.stop_when_stuck = false;
     variant.mlrta.split_factor = 4;
     variant.mlrta.initial_tile = 32;
     engines.push_back(make_engine("mlrta"));

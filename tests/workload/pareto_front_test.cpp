@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "beamtrace/error.hpp"
-#include "workload/trade_plot.hpp"
+#include "experiments/trade_plot.hpp"
 
 using beamtrace::workload::pareto_front;
 

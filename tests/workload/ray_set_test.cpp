@@ -5,8 +5,8 @@
 
 #include "beamtrace/error.hpp"
 #include "scenes/scene_source.hpp"
-#include "workload/bench_run.hpp"
-#include "workload/ray_set.hpp"
+#include "experiments/bench_run.hpp"
+#include "rays/ray_set.hpp"
 
 using namespace beamtrace;
 using namespace beamtrace::workload;

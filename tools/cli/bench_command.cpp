@@ -4,7 +4,7 @@
 
 #include "beamtrace/error.hpp"
 #include "cli/commands.hpp"
-#include "workload/bench_run.hpp"
+#include "experiments/bench_run.hpp"
 
 namespace beamtrace::cli {
 
@@ -64,11 +64,11 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--mlrta-min-tile", args->mlrta.min_tile, "mlrta: minimum tile size in pixels (MTS)")->capture_default_str();
     cmd->add_option("--mlrta-frustum", args->mlrta_frustum, "mlrta: entry-point culling, inverse | direct")->capture_default_str();
     cmd->add_option("--mlrta-ep-search", args->mlrta_ep_search, "mlrta: entry-point search order, top-down | bifurcation-stack (the same entry points with --no-mlrta-ep-triangles)")->capture_default_str();
-    cmd->add_flag("--mlrta-ep-triangles,!--no-mlrta-ep-triangles", args->mlrta.ep_triangles, "mlrta: entry-point searches of one-origin beams cull leaves by their triangles and stop at a triangle that blocks the whole beam (default on)");
-    cmd->add_flag("--mlrta-stuck-retry,!--no-mlrta-stuck-retry", args->mlrta.retry_stuck, "mlrta: with the stuck rule, a stuck tile is still split once unless it is the part of a stuck tile or its parts would be single packets (default on)");
-    cmd->add_flag("--mlrta-ep-resume,!--no-mlrta-ep-resume", args->mlrta.ep_resume, "mlrta: a sub-tile's entry-point search starts at the first potential leaf its parent's search found (default on; off: from the parent's entry point, as in the paper)");
-    cmd->add_flag("--mlrta-stuck-stop,!--no-mlrta-stuck-stop", args->mlrta.stop_when_stuck, "mlrta: stop splitting a tile whose entry point is its parent's (default on; off: the paper's schedule, split down to the minimum tile size)");
-    cmd->add_flag("--triangle-culling,!--no-triangle-culling", args->mlrta.triangle_culling, "kd16/mlrta: cull leaf triangles outside a one-origin packet's frustum before testing them (default on; --no-triangle-culling turns it off)");
+    cmd->add_flag("--mlrta-ep-triangles,!--no-mlrta-ep-triangles", args->mlrta.experimental.ep_triangles, "mlrta: entry-point searches of one-origin beams cull leaves by their triangles and stop at a triangle that blocks the whole beam (default on)");
+    cmd->add_flag("--mlrta-stuck-retry,!--no-mlrta-stuck-retry", args->mlrta.experimental.retry_stuck, "mlrta: with the stuck rule, a stuck tile is still split once unless it is the part of a stuck tile or its parts would be single packets (default on)");
+    cmd->add_flag("--mlrta-ep-resume,!--no-mlrta-ep-resume", args->mlrta.experimental.ep_resume, "mlrta: a sub-tile's entry-point search starts at the first potential leaf its parent's search found (default on; off: from the parent's entry point, as in the paper)");
+    cmd->add_flag("--mlrta-stuck-stop,!--no-mlrta-stuck-stop", args->mlrta.experimental.stop_when_stuck, "mlrta: stop splitting a tile whose entry point is its parent's (default on; off: the paper's schedule, split down to the minimum tile size)");
+    cmd->add_flag("--triangle-culling,!--no-triangle-culling", args->mlrta.experimental.triangle_culling, "kd16/mlrta: cull leaf triangles outside a one-origin packet's frustum before testing them (default on; --no-triangle-culling turns it off)");
     cmd->add_option("--vlf-dirs", args->vlf.directions, "vlf: beam directions l (2 m^2 + 1: 33, 129, 513, ...)")->capture_default_str();
     cmd->add_option("--vlf-tiles", args->vlf.tiles, "vlf: tiles per side n of each parallel subfield")->capture_default_str();
     cmd->add_option("--vlf-depth", args->vlf.depth, "vlf: tile-BSP depth d (0 = one leaf per tile)")->capture_default_str();
@@ -91,10 +91,10 @@ std::function<void()> add_bench_command(CLI::App& app) {
         bo.engine_options.embree_robust = args->embree_robust;
         if (args->mlrta_frustum != "inverse" && args->mlrta_frustum != "direct")
             throw Error("--mlrta-frustum must be inverse or direct, not '" + args->mlrta_frustum + "'");
-        args->mlrta.frustum_test = args->mlrta_frustum == "direct" ? FrustumTest::direct : FrustumTest::inverse;
+        args->mlrta.experimental.frustum_test = args->mlrta_frustum == "direct" ? FrustumTest::direct : FrustumTest::inverse;
         if (args->mlrta_ep_search != "top-down" && args->mlrta_ep_search != "bifurcation-stack")
             throw Error("--mlrta-ep-search must be top-down or bifurcation-stack, not '" + args->mlrta_ep_search + "'");
-        args->mlrta.ep_search = args->mlrta_ep_search == "top-down" ? EpSearch::top_down : EpSearch::bifurcation_stack;
+        args->mlrta.experimental.ep_search = args->mlrta_ep_search == "top-down" ? EpSearch::top_down : EpSearch::bifurcation_stack;
         args->mlrta.validate();
         bo.engine_options.mlrta = args->mlrta;
         KdBuildRules kd = args->kd;
@@ -104,10 +104,12 @@ std::function<void()> add_bench_command(CLI::App& app) {
         kd.validate();
         bo.engine_options.kd_rules = kd;
         args->vlf.validate();
-        bo.engine_options.vlf = args->vlf;
-        bo.engine_options.vlf_order = args->vlf_order;
         if (args->vlf_order != "input" && args->vlf_order != "psf" && args->vlf_order != "auto")
             throw Error("--vlf-order must be input, psf or auto, not '" + args->vlf_order + "'");
+        args->vlf.order = args->vlf_order == "input" ? VlfOrder::input
+                          : args->vlf_order == "psf" ? VlfOrder::psf
+                                                     : VlfOrder::automatic;
+        bo.engine_options.vlf = args->vlf;
         for (const std::string& e : bo.engines) workload::make_engine(e);  // reject unknown names before loading
         const workload::Workload w = workload::make_workload(wc);
         const workload::BenchResult result = workload::run_bench(w, bo);

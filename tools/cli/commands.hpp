@@ -6,7 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "workload/workload.hpp"
+#include "rays/workload.hpp"
 
 namespace beamtrace::cli {
 

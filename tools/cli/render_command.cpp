@@ -6,7 +6,7 @@
 #include "cli/commands.hpp"
 #include "report/progress_bar.hpp"
 #include "scenes/scene_source.hpp"
-#include "workload/picture.hpp"
+#include "experiments/picture.hpp"
 
 namespace beamtrace::cli {
 

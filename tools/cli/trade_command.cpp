@@ -8,8 +8,8 @@
 
 #include "beamtrace/error.hpp"
 #include "cli/commands.hpp"
-#include "workload/trade_plot.hpp"
-#include "workload/trade_sweep.hpp"
+#include "experiments/trade_plot.hpp"
+#include "experiments/trade_sweep.hpp"
 
 namespace beamtrace::cli {
 

@@ -1,0 +1,68 @@
+#pragma once
+// The query contract every accelerator (KdTree, Mlrta, VisibilityField) offers, the same six calls:
+//
+//   Hit  intersect(const Ray&) const;                  bool occluded(const Ray&) const;
+//   void intersect(std::span<const Ray>, std::span<Hit>, const QueryOptions& = {}) const;
+//   void occluded (std::span<const Ray>, std::span<std::uint8_t>, const QueryOptions& = {}) const;
+//   void intersect(std::span<const Packet16>, std::span<PacketHits16>, const QueryOptions& = {}) const;
+//   void occluded (std::span<const Packet16>, std::span<std::uint32_t>, const QueryOptions& = {}) const;
+//
+// - Rays in any order; answers in input order (answer i for ray i, or for packet i: hits of its 16
+//   lanes, bit j of the occlusion word set when lane j is occluded). Inactive lanes and rays that
+//   describe no segment (ray.hpp) report no hit and are not occluded.
+// - Spans of different sizes are rejected with beamtrace::Error, as are threads < 1.
+// - The calls are const and thread-safe. QueryOptions::threads > 1 runs the call on that many TBB
+//   threads (the library's own); nothing is allocated per call beyond what the call needs.
+// - QueryOptions::counters, when given, receives the call's work counts (the counting variant of the
+//   same traversal code; the plain call counts nothing and pays nothing for it).
+#include <cstdint>
+
+namespace beamtrace {
+
+// Work counters of queries. Each accelerator fills the fields it has; engine-specific ones are in
+// the named groups.
+struct QueryCounters {
+    std::uint64_t rays = 0;            // rays traced one at a time (single-ray traversal)
+    std::uint64_t packets = 0;         // 4x4 packets traced
+    std::uint64_t inner_steps = 0;     // kd-tree: inner nodes visited by single rays
+    std::uint64_t leaves = 0;          // leaves visited by single rays (kd-tree leaves, VLF tile-BSP leaves)
+    std::uint64_t packet_steps = 0;    // kd-tree nodes visited by interval traversal of packets (MLRTA's XP)
+    std::uint64_t single_rays = 0;     // lanes of packets traced one by one (zero components, incoherent groups)
+    std::uint64_t triangle_tests = 0;  // ray/triangle tests (single rays), packet/triangle tests (packets)
+
+    struct Mlrta {
+        std::uint64_t ep_steps = 0;         // nodes visited by entry-point searches
+        std::uint64_t tiles = 0;            // tiles whose packets went to interval traversal
+        std::uint64_t divergent_tiles = 0;  // tiles whose rays diverge in sign
+        std::uint64_t blocked_tiles = 0;    // occlusion tiles one triangle blocks entirely
+    } mlrta;
+
+    struct Vlf {
+        std::uint64_t tiles = 0;    // tiles visited (empty ones included)
+        std::uint64_t entries = 0;  // tile entries whose footprint was compared with the ray's
+    } vlf;
+
+    QueryCounters& operator+=(const QueryCounters& o) {
+        rays += o.rays;
+        packets += o.packets;
+        inner_steps += o.inner_steps;
+        leaves += o.leaves;
+        packet_steps += o.packet_steps;
+        single_rays += o.single_rays;
+        triangle_tests += o.triangle_tests;
+        mlrta.ep_steps += o.mlrta.ep_steps;
+        mlrta.tiles += o.mlrta.tiles;
+        mlrta.divergent_tiles += o.mlrta.divergent_tiles;
+        mlrta.blocked_tiles += o.mlrta.blocked_tiles;
+        vlf.tiles += o.vlf.tiles;
+        vlf.entries += o.vlf.entries;
+        return *this;
+    }
+};
+
+struct QueryOptions {
+    int threads = 1;                     // TBB threads of the call (>= 1)
+    QueryCounters* counters = nullptr;   // work counts of the call are added here when given
+};
+
+}  // namespace beamtrace

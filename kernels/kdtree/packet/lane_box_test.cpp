@@ -1,0 +1,30 @@
+// The per-lane slab test: set-up and scalar reference.
+#include "kdtree/packet/lane_box_test.hpp"
+
+
+namespace beamtrace::kdtree {
+
+LaneBoxRays make_lane_box_rays(const Packet16& packet, float pad) {
+    LaneBoxRays s;
+    const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
+    const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
+    for (int k = 0; k < 3; ++k)
+        for (int i = 0; i < 16; ++i) {
+            s.org[k][i] = org[k][i];
+            s.inv[k][i] = 1.0f / dir[k][i];
+        }
+    for (int i = 0; i < 16; ++i) s.tnear[i] = packet.tnear[i];
+    s.pad = pad;
+    return s;
+}
+
+std::uint32_t lanes_meeting_box(const LaneBoxRays& s, const float* tfar, std::uint32_t lanes, const Box& box) {
+    std::uint32_t out = 0;
+    for (std::uint32_t b = lanes; b; b &= b - 1) {
+        const int i = __builtin_ctz(b);
+        if (s.meets(i, tfar[i], box)) out |= 1u << i;
+    }
+    return out;
+}
+
+}  // namespace beamtrace::kdtree

@@ -1,0 +1,63 @@
+// The one-origin frustum of a packet, and the scalar culling kernel (the reference).
+#include "kdtree/packet/one_origin_frustum.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include <xsimd/xsimd.hpp>
+
+#include "kdtree/packet/packet_lanes.hpp"
+
+namespace beamtrace::kdtree {
+
+std::uint32_t frustum_misses(const OneOriginFrustum& f, const Triangle* tris, int n) {
+    std::uint32_t bits = 0;
+    for (int i = 0; i < n; ++i)
+        if (f.misses(tris[i])) bits |= 1u << i;
+    return bits;
+}
+
+OneOriginFrustum make_one_origin_frustum(const Packet16& packet, std::uint32_t mask) {
+    // Lane by lane arithmetic four lanes at a time (SSE), ranges over the group's lanes.
+    using B = xsimd::batch<float, xsimd::sse4_2>;
+    constexpr int W = int(B::size);
+    OneOriginFrustum f;
+    if (mask == 0) return f;
+    const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
+    const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
+    const int first = __builtin_ctz(mask);
+    std::uint32_t same = 0;
+    for (int base = 0; base < 16; base += W) {
+        auto eq = B::load_unaligned(org[0] + base) == B(org[0][first]);
+        eq = eq & (B::load_unaligned(org[1] + base) == B(org[1][first]));
+        eq = eq & (B::load_unaligned(org[2] + base) == B(org[2][first]));
+        same |= std::uint32_t(_mm_movemask_ps(eq)) << base;
+    }
+    if ((same & mask) != mask) return f;  // several origins: no frustum
+    const float a0 = std::fabs(dir[0][first]), a1 = std::fabs(dir[1][first]), a2 = std::fabs(dir[2][first]);
+    f.m = a0 >= a1 ? (a0 >= a2 ? 0 : 2) : (a1 >= a2 ? 1 : 2);
+    f.j0 = f.m == 0 ? 1 : 0;
+    f.j1 = f.m == 2 ? 1 : 2;
+    f.sm = std::signbit(dir[f.m][first]) ? -1.0f : 1.0f;
+    f.origin = Float3{org[0][first], org[1][first], org[2][first]};
+    alignas(64) float q[2][16], reach[16];
+    const int js[2] = {f.j0, f.j1};
+    for (int base = 0; base < 16; base += W) {
+        const B dm = xsimd::abs(B::load_unaligned(dir[f.m] + base));
+        for (int a = 0; a < 2; ++a) (B::load_unaligned(dir[js[a]] + base) / dm).store_aligned(q[a] + base);
+        (B::load_unaligned(packet.tfar + base) * dm).store_aligned(reach + base);
+    }
+    for (int j = 0; j < 3; ++j) f.slope[j] = {f.sm, f.sm};  // dir_m / |dir_m|
+    for (int a = 0; a < 2; ++a) f.slope[js[a]] = lane_range(q[a], mask);
+    // Slopes of rays and corners both carry rounding: widen generously (relative and absolute).
+    for (int j = 0; j < 3; ++j) {
+        const float spread = (f.slope[j].hi - f.slope[j].lo) + std::fabs(f.slope[j].lo) + std::fabs(f.slope[j].hi);
+        f.slope[j] = {f.slope[j].lo - spread * 1e-4f - 1e-6f, f.slope[j].hi + spread * 1e-4f + 1e-6f};
+    }
+    f.reach = std::max(0.0f, lane_range(reach, mask).hi) * (1.0f + 1.0f / 65536.0f);  // the product's rounding
+    f.valid = std::isfinite(f.slope[f.j0].lo) && std::isfinite(f.slope[f.j0].hi) && std::isfinite(f.slope[f.j1].lo) &&
+              std::isfinite(f.slope[f.j1].hi);
+    return f;
+}
+
+}  // namespace beamtrace::kdtree

@@ -1,0 +1,12 @@
+// The scalar table of packet traversal's kernels: the references.
+#include "kdtree/packet/packet_kernels.hpp"
+
+namespace beamtrace {
+
+template <>
+const kdtree::PacketKernels& simd::table<kdtree::PacketKernels, Isa::scalar>() {
+    static constexpr kdtree::PacketKernels kScalar{Isa::scalar, kdtree::frustum_misses, kdtree::lanes_meeting_box};
+    return kScalar;
+}
+
+}  // namespace beamtrace

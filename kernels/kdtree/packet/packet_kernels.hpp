@@ -1,0 +1,19 @@
+#pragma once
+// The SIMD kernels of packet traversal, one table per instruction set (simd/dispatch.hpp): the
+// culling of a leaf's triangles by the frustum of a one-origin packet (one_origin_frustum.hpp) and
+// the per-lane slab test of leaf boxes (lane_box_test.hpp). The scalar table holds the references.
+#include "kdtree/packet/lane_box_test.hpp"
+#include "kdtree/packet/one_origin_frustum.hpp"
+#include "simd/dispatch.hpp"
+
+namespace beamtrace::kdtree {
+
+struct PacketKernels {
+    Isa isa;
+    FrustumCullKernel frustum_cull;  // scalar: frustum_misses; SSE4.2 4, AVX2 8, AVX-512 16 triangles a step
+    LaneBoxKernel lane_box;          // scalar: lanes_meeting_box
+};
+
+}  // namespace beamtrace::kdtree
+
+BEAMTRACE_KERNEL_TABLE(beamtrace::kdtree::PacketKernels);

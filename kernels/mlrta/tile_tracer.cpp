@@ -1,0 +1,158 @@
+#include "mlrta/tile_tracer.hpp"
+
+#include <algorithm>
+
+#include "common/ray_validity.hpp"
+#include "mlrta/entry_point_search.hpp"
+#include "mlrta/entry_point_trace.hpp"
+#include "mlrta/shadow_reversal.hpp"
+
+namespace beamtrace::mlrta {
+
+template <bool kOcclusion, bool kCount>
+TileTracer<kOcclusion, kCount>::TileTracer(const Mlrta::Impl& m, const PacketGrid& grid, PacketHits16* hits,
+                                           std::uint32_t* occluded, QueryCounters* counters,
+                                           const TileObserver* observer, bool reverse)
+    : m_(m), grid_(grid), hits_(hits), occluded_(occluded), counters_(counters), observer_(observer),
+      reverse_(kOcclusion && reverse) {
+    tile_side_ = std::max(1, m.settings.initial_tile / 4);
+    beams_.resize(std::size_t(tile_side_) * std::size_t(tile_side_));
+    if (reverse_) {
+        reversed_.resize(beams_.size());
+        tolerance_ = reversal_tolerance(m.kd().scene.bounds());
+    }
+    Beam scale;
+    scale.set_scene_scale(m.kd().bounds);
+    pad_ = scale.pad;
+}
+
+template <bool kOcclusion, bool kCount>
+const Beam& TileTracer<kOcclusion, kCount>::packet_beam(int x, int y) const {
+    return beams_[std::size_t(y - tile_y0_) * std::size_t(tile_side_) + std::size_t(x - tile_x0_)];
+}
+
+template <bool kOcclusion, bool kCount>
+const Packet16& TileTracer<kOcclusion, kCount>::packet(int x, int y) const {
+    if (reverse_) return reversed_[std::size_t(y - tile_y0_) * std::size_t(tile_side_) + std::size_t(x - tile_x0_)];
+    return grid_.packets[std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x)];
+}
+
+template <bool kOcclusion, bool kCount>
+void TileTracer<kOcclusion, kCount>::trace_initial_tile(int x0, int y0) {
+    tile_x0_ = x0;
+    tile_y0_ = y0;
+    const int x1 = std::min(x0 + tile_side_, grid_.columns), y1 = std::min(y0 + tile_side_, grid_.rows);
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const std::size_t local = std::size_t(y - y0) * std::size_t(tile_side_) + std::size_t(x - x0);
+            if (reverse_)
+                reverse_for_occlusion(grid_.packets[std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x)],
+                                      tolerance_, reversed_[local]);
+            Beam& b = beams_[local];
+            b = Beam{};
+            b.pad = pad_;
+            b.add(packet(x, y));
+        }
+    trace_tile(x0, y0, x1, y1, root_entry(m_), nullptr, false);
+}
+
+template <bool kOcclusion, bool kCount>
+void TileTracer<kOcclusion, kCount>::trace_tile(int x0, int y0, int x1, int y1, const EntryPoint& ep,
+                                                  const SearchTrail* trail, bool parent_stuck) {
+    Beam beam;
+    beam.pad = pad_;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) beam.merge(packet_beam(x, y));
+    if (beam.empty) {
+        trace_packets(x0, y0, x1, y1, ep, false);  // no active ray: only clears the results
+        return;
+    }
+    const int min_side = std::max(1, m_.settings.min_tile / 4);
+    const bool small = (x1 - x0) <= min_side && (y1 - y0) <= min_side;
+    const int parts = m_.settings.split_factor == 4 ? 2 : 4;  // per side
+    EntryPoint found = ep;
+    SearchTrail found_trail;  // stays invalid for diverging tiles: their parts search without one
+    bool stuck = false;       // the search found the parent's entry point again
+    if (!beam.coherent) {
+        // Diverging rays: no entry-point search. At the minimum size the packets go to XP search
+        // (in coherent sub-groups); larger tiles are split first, as their parts may be coherent.
+        if (small) {
+            trace_packets(x0, y0, x1, y1, ep, true);
+            return;
+        }
+        if constexpr (kCount) ++counters_->mlrta.divergent_tiles;
+    } else {
+        std::uint64_t steps = 0;
+        const bool resume = m_.settings.experimental.ep_resume;
+        found = entry_point_search(m_, beam, ep, steps, resume ? trail : nullptr, resume ? &found_trail : nullptr);
+        if constexpr (kCount) counters_->mlrta.ep_steps += steps;
+        // Stop splitting at a leaf (the paper's rule), at the minimum size, or when the search made
+        // no progress: a tile whose entry point is its parent's rarely has parts that do better,
+        // and their searches would cost more than they save. With retry_stuck such a tile is split
+        // once more (its parts often do find deeper entry points), unless it already is the part of
+        // a stuck tile or its parts would be single packets.
+        stuck = found.node == ep.node;
+        const bool single_parts = (x1 - x0) <= parts && (y1 - y0) <= parts;
+        const bool stop = stuck && m_.settings.experimental.stop_when_stuck &&
+                          (!m_.settings.experimental.retry_stuck || parent_stuck || single_parts);
+        if constexpr (kOcclusion) {
+            if (found.blocked()) {  // one triangle occludes every ray of the tile
+                occlude_all(x0, y0, x1, y1);
+                return;
+            }
+        }
+        if (found.misses || small || stop || m_.kd().nodes[found.node].is_leaf()) {
+            trace_packets(x0, y0, x1, y1, found, false, &found_trail);
+            return;
+        }
+    }
+    const int w = x1 - x0, h = y1 - y0;
+    for (int j = 0; j < parts; ++j)
+        for (int i = 0; i < parts; ++i) {
+            const int sx0 = x0 + w * i / parts, sx1 = x0 + w * (i + 1) / parts;
+            const int sy0 = y0 + h * j / parts, sy1 = y0 + h * (j + 1) / parts;
+            if (sx1 > sx0 && sy1 > sy0) trace_tile(sx0, sy0, sx1, sy1, found, &found_trail, stuck);
+        }
+}
+
+template <bool kOcclusion, bool kCount>
+void TileTracer<kOcclusion, kCount>::occlude_all(int x0, int y0, int x1, int y1) {
+    if constexpr (kCount) {
+        ++counters_->mlrta.tiles;
+        ++counters_->mlrta.blocked_tiles;
+    }
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x);
+            // The lanes the tile's beam was made of (Beam::add): every one of them is blocked.
+            const Packet16& traced = packet(x, y);
+            occluded_[p] = traced.active & 0xFFFFu & segment_lanes(traced);
+            if constexpr (kCount) ++counters_->packets;
+        }
+}
+
+template <bool kOcclusion, bool kCount>
+void TileTracer<kOcclusion, kCount>::trace_packets(int x0, int y0, int x1, int y1, const EntryPoint& ep,
+                                                     bool divergent, const SearchTrail* trail) {
+    if constexpr (kCount) {
+        ++counters_->mlrta.tiles;
+        if (divergent) ++counters_->mlrta.divergent_tiles;
+    }
+    if (observer_ && *observer_) {
+        const std::size_t subtree = m_.subtree_nodes[ep.node];
+        (*observer_)(TileInfo{x0, y0, x1, y1, ep.node, ep.misses ? 0 : subtree, divergent});
+    }
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x);
+            trace_packet<kOcclusion, kCount>(m_, packet(x, y), ep, kOcclusion ? nullptr : hits_ + p,
+                                             kOcclusion ? occluded_ + p : nullptr, counters_, trail);
+        }
+}
+
+template class TileTracer<false, false>;
+template class TileTracer<false, true>;
+template class TileTracer<true, false>;
+template class TileTracer<true, true>;
+
+}  // namespace beamtrace::mlrta

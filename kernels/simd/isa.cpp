@@ -1,0 +1,77 @@
+#include "simd/isa.hpp"
+
+#include <cstdlib>
+
+#include <xsimd/xsimd.hpp>
+
+#include "beamtrace/error.hpp"
+#include "simd/dispatch.hpp"
+
+namespace beamtrace {
+
+namespace {
+
+// AVX and AVX-512 state must also be enabled by the OS (XCR0), not only reported by CPUID.
+unsigned long long xcr0() {
+    unsigned int lo = 0, hi = 0;
+    __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
+    return (static_cast<unsigned long long>(hi) << 32) | lo;
+}
+
+bool os_saves(unsigned long long bits) {
+    unsigned int eax = 0, ebx = 0, ecx = 0, edx = 0;
+    __asm__("cpuid" : "=a"(eax), "=b"(ebx), "=c"(ecx), "=d"(edx) : "a"(1), "c"(0));
+    const bool osxsave = (ecx >> 27) & 1u;
+    return osxsave && (xcr0() & bits) == bits;
+}
+
+}  // namespace
+
+bool isa_available(Isa isa) {
+    static const xsimd::detail::supported_arch cpu = xsimd::available_architectures();
+    switch (isa) {
+        case Isa::scalar: return true;
+        case Isa::sse42: return cpu.sse4_2;
+        case Isa::avx2: return cpu.avx2 && os_saves(0x6);
+        case Isa::avx512:
+            return cpu.avx512f && cpu.avx512bw && cpu.avx512dq && cpu.avx512cd && cpu.avx2 && os_saves(0xE6);
+    }
+    return false;
+}
+
+const char* isa_name(Isa isa) {
+    switch (isa) {
+        case Isa::scalar: return "scalar";
+        case Isa::sse42: return "sse42";
+        case Isa::avx2: return "avx2";
+        case Isa::avx512: return "avx512";
+    }
+    return "?";
+}
+
+Isa parse_isa(const std::string& name) {
+    for (Isa isa : {Isa::scalar, Isa::sse42, Isa::avx2, Isa::avx512}) {
+        if (name == isa_name(isa)) {
+            if (!isa_available(isa)) throw Error("instruction set '" + name + "' is not available on this CPU");
+            return isa;
+        }
+    }
+    throw Error("unknown instruction set '" + name + "' (expected scalar, sse42, avx2 or avx512)");
+}
+
+void simd::require_available(Isa isa) {
+    if (!isa_available(isa)) throw Error(std::string("instruction set ") + isa_name(isa) + " is not available on this CPU");
+}
+
+Isa best_isa() {
+    static const Isa best = [] {
+        if (const char* forced = std::getenv("BEAMTRACE_ISA"); forced != nullptr && *forced != '\0')
+            return parse_isa(forced);
+        for (Isa isa : {Isa::avx512, Isa::avx2, Isa::sse42})
+            if (isa_available(isa)) return isa;
+        return Isa::scalar;
+    }();
+    return best;
+}
+
+}  // namespace beamtrace

@@ -1,0 +1,22 @@
+#pragma once
+// Constructors of the engines, one per file; make_engine() (engine_registry.cpp) picks by name.
+#include <memory>
+
+#include "engines/engine.hpp"
+#include "oracle/embree_native_rays.hpp"
+
+namespace beamtrace::workload {
+
+std::unique_ptr<Engine> make_embree_engine(oracle::EmbreeLayout layout);
+std::unique_ptr<Engine> make_brute_engine();
+std::unique_ptr<Engine> make_kd1_engine();
+std::unique_ptr<Engine> make_kd16_engine();
+std::unique_ptr<Engine> make_mlrta_engine();
+std::unique_ptr<Engine> make_vlf_engine(bool fast);
+
+// The statistics kd16 and mlrta report alike (the paper's Tables 2 and 3): cells, entry-point
+// cells and intersections per packet and the other packet counters; and MLRTA's settings.
+nlohmann::json packet_counters_json(const QueryCounters& counters, std::size_t kd_nodes, bool triangle_culling);
+nlohmann::json mlrta_settings_json(const MlrtaSettings& settings);
+
+}  // namespace beamtrace::workload

@@ -1,0 +1,249 @@
+#include "rays/ray_set.hpp"
+
+#include <cmath>
+#include <memory>
+
+#include "beamtrace/error.hpp"
+#include "beamtrace/vlf.hpp"
+
+namespace beamtrace::workload {
+
+const char* to_string(Mode mode) {
+    switch (mode) {
+        case Mode::primary: return "primary";
+        case Mode::shadow: return "shadow";
+        case Mode::ao: return "ao";
+    }
+    return "?";
+}
+
+Mode parse_mode(const std::string& text) {
+    for (Mode m : {Mode::primary, Mode::shadow, Mode::ao})
+        if (text == to_string(m)) return m;
+    throw Error("unknown mode '" + text + "' (expected primary, shadow or ao)");
+}
+
+RaySet make_primary_rays(const scenes::Camera& camera, int width, int height) {
+    if (width <= 0 || height <= 0 || width > 65536 || height > 65536)
+        throw Error("image size " + std::to_string(width) + "x" + std::to_string(height) +
+                    " is out of range (1 to 65536 on each side)");
+    camera.validate();
+    RaySet set;
+    set.mode = Mode::primary;
+    set.width = width;
+    set.height = height;
+    const int bx = (width + 3) / 4, by = (height + 3) / 4;
+    set.packets_x = bx;
+    set.packets_y = by;
+    set.packets.resize(std::size_t(bx) * std::size_t(by));
+    set.pixel.assign(set.packets.size() * 16, kNoPixel);
+    for (int ty = 0; ty < by; ++ty)
+        for (int tx = 0; tx < bx; ++tx) {
+            const std::size_t p = std::size_t(ty) * std::size_t(bx) + std::size_t(tx);
+            Packet16& packet = set.packets[p];
+            packet.active = 0;
+            for (int lane = 0; lane < 16; ++lane) {
+                const int x = tx * 4 + lane % 4, y = ty * 4 + lane / 4;
+                const bool inside = x < width && y < height;
+                // Lanes outside the image repeat a valid ray so that they hold sane values.
+                packet.set_ray(lane, camera.primary_ray(inside ? x : std::min(x, width - 1),
+                                                        inside ? y : std::min(y, height - 1), width, height));
+                if (inside) {
+                    packet.active |= 1u << lane;
+                    set.pixel[p * 16 + std::size_t(lane)] = std::uint32_t(y) * std::uint32_t(width) + std::uint32_t(x);
+                    ++set.ray_count;
+                }
+            }
+        }
+    return set;
+}
+
+SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit) {
+    const Triangle& t = scene.triangle(hit.triangle);
+    SurfacePoint s;
+    s.position = t.v0 * (1.0f - hit.u - hit.v) + t.v1 * hit.u + t.v2 * hit.v;
+    Float3 n = cross(t.v1 - t.v0, t.v2 - t.v0);
+    if (dot(n, ray.dir) > 0.0f) n = n * -1.0f;
+    s.normal = normalize(n);
+    return s;
+}
+
+float surface_offset(const Scene& scene) { return 1e-4f * scene.bounds().diagonal(); }
+
+Float3 default_light(const scenes::Camera& camera, const Box& bounds) {
+    return (camera.eye + bounds.center()) * 0.5f;
+}
+
+namespace {
+
+// Fills packets lane by lane; a packet is closed when full or when the caller asks.
+class PacketWriter {
+public:
+    explicit PacketWriter(RaySet& set) : set_(set) {}
+    void add(const Ray& ray, std::uint32_t pixel) {
+        if (lane_ == 16 || set_.packets.empty()) start_packet();
+        Packet16& p = set_.packets.back();
+        p.set_ray(lane_, ray);
+        p.active |= 1u << lane_;
+        set_.pixel[(set_.packets.size() - 1) * 16 + std::size_t(lane_)] = pixel;
+        ++lane_;
+        ++set_.ray_count;
+    }
+    void close() { lane_ = 16; }
+
+private:
+    void start_packet() {
+        Packet16 p;
+        p.active = 0;
+        const Ray idle{{0, 0, 0}, 0.0f, {0, 0, 1}, 0.0f};
+        for (int i = 0; i < 16; ++i) p.set_ray(i, idle);
+        set_.packets.push_back(p);
+        set_.pixel.resize(set_.packets.size() * 16, kNoPixel);
+        lane_ = 0;
+    }
+    RaySet& set_;
+    int lane_ = 16;
+};
+
+void check_hits(const RaySet& primary, const std::vector<Hit>& hits) {
+    if (hits.size() != primary.slots()) throw Error("secondary rays: primary hits do not match the primary rays");
+}
+
+// A deterministic hash for per-pixel random numbers (independent of threads and engines).
+std::uint32_t hash(std::uint32_t x) {
+    x ^= x >> 16; x *= 0x7feb352dU; x ^= x >> 15; x *= 0x846ca68bU; x ^= x >> 16;
+    return x;
+}
+float unit_float(std::uint32_t h) { return float(h >> 8) * (1.0f / 16777216.0f); }
+
+// The set's direction nearest to d, pointing d's way along its line.
+Float3 snap_to_set(const DirectionSet& set, Float3 d) {
+    const DirectionSet::Nearest near = set.nearest(d);
+    const Float3 w = set.direction(int(near.index));
+    return near.reversed ? w * -1.0f : w;
+}
+
+// An AO direction of the set, inside the hemisphere of n: the one nearest to the sample d, or, if
+// that one lies below the horizon, the nearest to a fresh cosine-weighted sample (a few tries), or
+// finally the set's direction nearest to n itself.
+Float3 psf_direction(const DirectionSet& set, Float3 d, Float3 n, std::uint32_t h) {
+    Float3 w = snap_to_set(set, d);
+    const Float3 a = std::fabs(n.x) > 0.5f ? Float3{0, 1, 0} : Float3{1, 0, 0};
+    const Float3 t = normalize(cross(a, n)), b = cross(n, t);
+    for (std::uint32_t attempt = 1; dot(w, n) <= 0.0f && attempt <= 16; ++attempt) {
+        const std::uint32_t g = hash(h + attempt * 0x9e3779b9u);
+        const float u1 = unit_float(g), r = std::sqrt(u1), phi = 6.28318531f * unit_float(hash(g));
+        const float z = std::sqrt(std::max(0.0f, 1.0f - u1));
+        w = snap_to_set(set, normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * z));
+    }
+    return dot(w, n) > 0.0f ? w : snap_to_set(set, n);
+}
+
+}  // namespace
+
+RaySet make_random_rays(const Box& box, std::size_t count, unsigned seed, Mode mode) {
+    RaySet set;
+    set.mode = mode;
+    set.width = int(std::min<std::size_t>(count, 65536));
+    set.height = 1;
+    PacketWriter writer(set);
+    const Float3 lo = box.lower - box.extent() * 0.2f, size = box.extent() * 1.4f;
+    for (std::size_t i = 0; i < count; ++i) {
+        auto u = [&](std::uint32_t k) { return unit_float(hash(std::uint32_t(i) * 13u + k + seed * 7777u)); };
+        Ray r;
+        r.org = lo + Float3{u(1) * size.x, u(2) * size.y, u(3) * size.z};
+        const float z = 2.0f * u(4) - 1.0f, phi = 6.28318531f * u(5), s = std::sqrt(std::max(0.0f, 1.0f - z * z));
+        r.dir = Float3{s * std::cos(phi), s * std::sin(phi), z};
+        r.tfar = mode == Mode::primary ? kInfinity : 0.5f * box.diagonal();
+        writer.add(r, std::uint32_t(i % std::size_t(set.width)));
+    }
+    return set;
+}
+
+RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits, Float3 light) {
+    check_hits(primary, hits);
+    RaySet set;
+    set.mode = Mode::shadow;
+    set.width = primary.width;
+    set.height = primary.height;
+    const float offset = surface_offset(scene);
+    set.packets_x = primary.packets_x;
+    set.packets_y = primary.packets_y;
+    set.packets.resize(primary.packets.size());
+    set.pixel.assign(primary.slots(), kNoPixel);
+    const Ray idle{{0, 0, 0}, 0.0f, {0, 0, 1}, 0.0f};
+    for (std::size_t p = 0; p < primary.packets.size(); ++p) {
+        Packet16& packet = set.packets[p];
+        packet.active = 0;
+        for (int lane = 0; lane < 16; ++lane) {
+            packet.set_ray(lane, idle);
+            const std::size_t slot = p * 16 + std::size_t(lane);
+            if (!primary.active(slot) || !hits[slot].hit()) continue;
+            const Ray pr = primary.ray(slot);
+            const SurfacePoint s = surface_point(scene, pr, hits[slot]);
+            const Float3 to_light = light - s.position;
+            const Float3 lift = s.normal * (dot(s.normal, to_light) >= 0.0f ? offset : -offset);
+            Ray r;
+            r.org = s.position + lift;
+            r.dir = light - r.org;
+            if (!(dot(r.dir, r.dir) > 0.0f)) continue;  // the light sits on the surface point
+            r.tnear = 0.0f;
+            r.tfar = 1.0f - 1e-4f;
+            packet.set_ray(lane, r);
+            packet.active |= 1u << lane;
+            set.pixel[slot] = primary.pixel[slot];
+            ++set.ray_count;
+        }
+    }
+    return set;
+}
+
+AoDirections::Source parse_ao_directions(const std::string& text) {
+    if (text == "random") return AoDirections::Source::random;
+    if (text == "psf") return AoDirections::Source::psf;
+    throw Error("unknown AO directions '" + text + "' (expected random or psf)");
+}
+
+RaySet make_ao_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits, int ao_rays,
+                    const AoDirections& directions) {
+    check_hits(primary, hits);
+    const std::unique_ptr<DirectionSet> psf =
+        directions.source == AoDirections::Source::psf ? std::make_unique<DirectionSet>(directions.psf_directions) : nullptr;
+    if (ao_rays <= 0 || ao_rays > 4096) throw Error("--ao-rays must be between 1 and 4096");
+    RaySet set;
+    set.mode = Mode::ao;
+    set.width = primary.width;
+    set.height = primary.height;
+    const float offset = surface_offset(scene), length = 0.1f * scene.bounds().diagonal();
+    const int strata = int(std::sqrt(double(ao_rays)));
+    PacketWriter writer(set);
+    for (std::size_t slot = 0; slot < primary.slots(); ++slot) {
+        if (!primary.active(slot) || !hits[slot].hit()) continue;
+        const SurfacePoint s = surface_point(scene, primary.ray(slot), hits[slot]);
+        // An orthonormal frame around the normal.
+        const Float3 n = s.normal;
+        const Float3 a = std::fabs(n.x) > 0.5f ? Float3{0, 1, 0} : Float3{1, 0, 0};
+        const Float3 t = normalize(cross(a, n)), b = cross(n, t);
+        if (ao_rays >= 16 && ao_rays % 16 == 0) writer.close();
+        for (int i = 0; i < ao_rays; ++i) {
+            const std::uint32_t h = hash(primary.pixel[slot] * 7919u + std::uint32_t(i) * 104729u + 17u);
+            float u1 = unit_float(h), u2 = unit_float(hash(h));
+            if (i < strata * strata) {  // stratified over a strata x strata grid, the rest plain random
+                u1 = (float(i % strata) + u1) / float(strata);
+                u2 = (float(i / strata) + u2) / float(strata);
+            }
+            const float r = std::sqrt(u1), phi = 6.28318531f * u2;
+            const float x = r * std::cos(phi), y = r * std::sin(phi), z = std::sqrt(std::max(0.0f, 1.0f - u1));
+            Ray ray;
+            ray.org = s.position + n * offset;
+            ray.dir = normalize(t * x + b * y + n * z);
+            if (psf) ray.dir = psf_direction(*psf, ray.dir, n, h);
+            ray.tnear = 0.0f;
+            ray.tfar = length;
+            writer.add(ray, primary.pixel[slot]);
+        }
+    }
+    return set;
+}
+
+}  // namespace beamtrace::workload
