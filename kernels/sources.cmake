@@ -1,0 +1,59 @@
+# The library's sources (paths relative to kernels/), shared by kernels/CMakeLists.txt and the fuzz
+# targets' own project (tests/fuzz/targets), which compiles them again, instrumented.
+#
+# beamtrace_isa_unit(ISA FLAGS...): kernels/simd/kernels_ISA.cpp, the one translation unit compiled
+# for that instruction set. It fills every kernel table of the ISA (simd/dispatch.hpp) and is the only
+# unit that instantiates xsimd templates for it, so no inline function compiled for a wider ISA can
+# be picked by the linker for a narrower one. BEAMTRACE_KERNELS_DIR: the kernels folder.
+set(BEAMTRACE_ISA_SOURCES "")
+function(beamtrace_isa_unit isa)
+  set(unit ${BEAMTRACE_KERNELS_DIR}/simd/kernels_${isa}.cpp)
+  set_source_files_properties(${unit} PROPERTIES COMPILE_OPTIONS "${ARGN}")
+  set(BEAMTRACE_ISA_SOURCES ${BEAMTRACE_ISA_SOURCES} ${unit} PARENT_SCOPE)
+endfunction()
+beamtrace_isa_unit(sse42 -msse4.2)
+beamtrace_isa_unit(avx2 -mavx2 -mfma)
+beamtrace_isa_unit(avx512 -mavx512f -mavx512cd -mavx512dq -mavx512bw -mavx512vl -mavx2 -mfma)
+
+set(BEAMTRACE_SOURCES ${BEAMTRACE_ISA_SOURCES})
+foreach(source
+    simd/isa.cpp
+    common/scene.cpp
+    common/ray.cpp
+    common/ray_validity.cpp
+    common/watertight_packet.cpp
+    common/triangle_reference.cpp
+    common/triangle_kernels.cpp
+    kdtree/build_rules.cpp
+    kdtree/split_events.cpp
+    kdtree/sah_builder.cpp
+    kdtree/kd_traversal.cpp
+    kdtree/kd_queries.cpp
+    kdtree/brute_force.cpp
+    kdtree/packet/lane_box_test.cpp
+    kdtree/packet/one_origin_frustum.cpp
+    kdtree/packet/packet_kernels.cpp
+    kdtree/packet/packet_lanes.cpp
+    kdtree/packet/packet_tables.cpp
+    kdtree/packet/packet_traversal.cpp
+    vlf/direction_set.cpp
+    vlf/tile_bsp.cpp
+    vlf/parallel_subfield.cpp
+    vlf/visibility_field.cpp
+    vlf/packet_query.cpp
+    vlf/ray_stream.cpp
+    vlf/field_queries.cpp
+    vlf/tile_ray_stream.cpp
+    vlf/vlf_kernels.cpp
+    vlf/dynamic_update.cpp
+    mlrta/beam.cpp
+    mlrta/beam_triangles.cpp
+    mlrta/covered_leaves.cpp
+    mlrta/entry_point_search.cpp
+    mlrta/entry_point_trace.cpp
+    mlrta/shadow_reversal.cpp
+    mlrta/tile_tracer.cpp
+    mlrta/mlrta.cpp
+  )
+  list(APPEND BEAMTRACE_SOURCES ${BEAMTRACE_KERNELS_DIR}/${source})
+endforeach()
