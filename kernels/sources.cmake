@@ -36,16 +36,16 @@ foreach(source
     kdtree/packet/packet_lanes.cpp
     kdtree/packet/packet_tables.cpp
     kdtree/packet/packet_traversal.cpp
-    vlf/direction_set.cpp
-    vlf/tile_bsp.cpp
-    vlf/parallel_subfield.cpp
+    vlf/directions/direction_set.cpp
+    vlf/build/tile_bsp.cpp
+    vlf/build/parallel_subfield.cpp
     vlf/visibility_field.cpp
-    vlf/packet_query.cpp
-    vlf/ray_stream.cpp
-    vlf/field_queries.cpp
-    vlf/tile_ray_stream.cpp
+    vlf/stream/packet_query.cpp
+    vlf/stream/ray_stream.cpp
+    vlf/query/field_queries.cpp
+    vlf/stream/tile_ray_stream.cpp
     vlf/vlf_kernels.cpp
-    vlf/dynamic_update.cpp
+    vlf/build/dynamic_update.cpp
     mlrta/beam.cpp
     mlrta/beam_triangles.cpp
     mlrta/covered_leaves.cpp

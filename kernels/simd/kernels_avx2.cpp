@@ -7,8 +7,8 @@
 #include "kdtree/packet/one_origin_frustum_impl.hpp"
 #include "kdtree/packet/packet_kernels.hpp"
 #include "simd/lane_bits.hpp"
-#include "vlf/footprint_scan_impl.hpp"
-#include "vlf/packet_lookup_impl.hpp"
+#include "vlf/query/footprint_scan_impl.hpp"
+#include "vlf/stream/packet_lookup_impl.hpp"
 #include "vlf/vlf_kernels.hpp"
 
 namespace beamtrace {

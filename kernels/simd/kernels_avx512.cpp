@@ -12,11 +12,11 @@
 #include "kdtree/packet/one_origin_frustum_impl.hpp"
 #include "kdtree/packet/packet_kernels.hpp"
 #include "simd/lane_bits.hpp"
-#include "vlf/entry_closest_hit_impl.hpp"
-#include "vlf/entry_occlusion_impl.hpp"
-#include "vlf/footprint_scan_impl.hpp"
-#include "vlf/packet_lookup_impl.hpp"
-#include "vlf/tile_ray_batch_impl.hpp"
+#include "vlf/query/entry_closest_hit_impl.hpp"
+#include "vlf/query/entry_occlusion_impl.hpp"
+#include "vlf/query/footprint_scan_impl.hpp"
+#include "vlf/stream/packet_lookup_impl.hpp"
+#include "vlf/stream/tile_ray_batch_impl.hpp"
 #include "vlf/vlf_kernels.hpp"
 
 namespace beamtrace {

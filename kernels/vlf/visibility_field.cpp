@@ -8,10 +8,10 @@
 
 #include "beamtrace/error.hpp"
 #include "common/ray_validity.hpp"
-#include "vlf/direction_set_impl.hpp"
-#include "vlf/field_query.hpp"
-#include "vlf/spatial_order.hpp"
-#include "vlf/tile_ray_stream.hpp"
+#include "vlf/directions/direction_set_impl.hpp"
+#include "vlf/query/field_query.hpp"
+#include "vlf/build/spatial_order.hpp"
+#include "vlf/stream/tile_ray_stream.hpp"
 
 namespace beamtrace {
 

@@ -9,11 +9,11 @@
 #include "beamtrace/vlf.hpp"
 #include "common/access.hpp"
 #include "common/triangle_kernels.hpp"
-#include "vlf/canonical_frame.hpp"
-#include "vlf/canonical_ray.hpp"
-#include "vlf/packet_lookup.hpp"
+#include "vlf/directions/canonical_frame.hpp"
+#include "vlf/directions/canonical_ray.hpp"
+#include "vlf/stream/packet_lookup.hpp"
 #include "vlf/vlf_kernels.hpp"
-#include "vlf/parallel_subfield.hpp"
+#include "vlf/build/parallel_subfield.hpp"
 
 namespace beamtrace {
 

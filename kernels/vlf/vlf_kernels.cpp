@@ -2,7 +2,7 @@
 // entry_occlusion.hpp and tile_ray_batch.hpp.
 #include "vlf/vlf_kernels.hpp"
 
-#include "vlf/tile_footprint.hpp"
+#include "vlf/query/tile_footprint.hpp"
 
 namespace beamtrace::vlf {
 namespace {

@@ -8,10 +8,10 @@
 
 #include "simd/dispatch.hpp"
 #include "simd/isa.hpp"
-#include "vlf/entry_closest_hit.hpp"
-#include "vlf/entry_occlusion.hpp"
-#include "vlf/packet_lookup.hpp"
-#include "vlf/tile_ray_batch.hpp"
+#include "vlf/query/entry_closest_hit.hpp"
+#include "vlf/query/entry_occlusion.hpp"
+#include "vlf/stream/packet_lookup.hpp"
+#include "vlf/stream/tile_ray_batch.hpp"
 
 namespace beamtrace::vlf {
 

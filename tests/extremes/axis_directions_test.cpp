@@ -13,7 +13,7 @@
 #include "common/access.hpp"
 #include "kdtree/kd_node.hpp"
 #include "kdtree/test_scenes.hpp"
-#include "vlf/canonical_frame.hpp"
+#include "vlf/directions/canonical_frame.hpp"
 
 namespace beamtrace::test {
 namespace {

@@ -8,10 +8,10 @@
 #include <cmath>
 #include <random>
 
-#include "vlf/parallel_subfield.hpp"
-#include "vlf/prism_clip.hpp"
-#include "vlf/tile_footprint.hpp"
-#include "vlf/tile_rasteriser.hpp"
+#include "vlf/build/parallel_subfield.hpp"
+#include "vlf/build/prism_clip.hpp"
+#include "vlf/query/tile_footprint.hpp"
+#include "vlf/build/tile_rasteriser.hpp"
 
 using namespace beamtrace;
 using namespace beamtrace::vlf;

@@ -11,9 +11,9 @@
 
 #include "../kdtree/test_scenes.hpp"
 #include "common/triangle_reference.hpp"
-#include "vlf/entry_occlusion.hpp"
-#include "vlf/packet_start.hpp"
-#include "vlf/tile_footprint.hpp"
+#include "vlf/query/entry_occlusion.hpp"
+#include "vlf/stream/packet_start.hpp"
+#include "vlf/query/tile_footprint.hpp"
 #include "vlf/vlf_kernels.hpp"
 
 using namespace beamtrace;

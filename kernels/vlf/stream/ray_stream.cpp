@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "common/query_runner.hpp"
-#include "vlf/field_query.hpp"
-#include "vlf/packet_start.hpp"
-#include "vlf/tile_ray_stream.hpp"
+#include "vlf/query/field_query.hpp"
+#include "vlf/stream/packet_start.hpp"
+#include "vlf/stream/tile_ray_stream.hpp"
 
 namespace beamtrace {
 namespace {

@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "beamtrace/vlf.hpp"
-#include "vlf/packet_lookup.hpp"
-#include "vlf/tile_ray_batch.hpp"
+#include "vlf/stream/packet_lookup.hpp"
+#include "vlf/stream/tile_ray_batch.hpp"
 #include "vlf/vlf_impl.hpp"
 
 namespace beamtrace::vlf {

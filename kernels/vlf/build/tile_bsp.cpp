@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <limits>
 
-#include "vlf/tile_bsp.hpp"
+#include "vlf/build/tile_bsp.hpp"
 
 namespace beamtrace::vlf {
 

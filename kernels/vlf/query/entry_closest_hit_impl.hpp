@@ -10,8 +10,8 @@
 #include <xsimd/xsimd.hpp>
 
 #include "common/triangle_kernels_impl.hpp"
-#include "vlf/corner_load_impl.hpp"
-#include "vlf/entry_closest_hit.hpp"
+#include "vlf/query/corner_load_impl.hpp"
+#include "vlf/query/entry_closest_hit.hpp"
 
 namespace beamtrace::vlf {
 namespace {

@@ -11,8 +11,8 @@
 #include <xsimd/xsimd.hpp>
 
 #include "common/triangle_kernels_impl.hpp"
-#include "vlf/corner_load_impl.hpp"
-#include "vlf/entry_occlusion.hpp"
+#include "vlf/query/corner_load_impl.hpp"
+#include "vlf/query/entry_occlusion.hpp"
 
 namespace beamtrace::vlf {
 namespace {

@@ -5,8 +5,8 @@
 // each tile's block. A lone packet runs both back to back, so the cache misses of its 16 rays
 // overlap instead of following one another; a stream runs them one and two packets ahead of the
 // walks, so the misses are resolved by the time the walks need the data.
-#include "vlf/packet_lookup.hpp"
-#include "vlf/parallel_subfield.hpp"
+#include "vlf/stream/packet_lookup.hpp"
+#include "vlf/build/parallel_subfield.hpp"
 #include "vlf/vlf_impl.hpp"
 
 namespace beamtrace::vlf {

@@ -18,10 +18,10 @@
 #include "common/triangle_kernels.hpp"
 #include "common/triangle_reference.hpp"
 #include "common/watertight_ray.hpp"
-#include "vlf/canonical_ray.hpp"
-#include "vlf/mailbox.hpp"
-#include "vlf/parallel_subfield.hpp"
-#include "vlf/tile_footprint.hpp"
+#include "vlf/directions/canonical_ray.hpp"
+#include "vlf/query/mailbox.hpp"
+#include "vlf/build/parallel_subfield.hpp"
+#include "vlf/query/tile_footprint.hpp"
 #include "vlf/vlf_kernels.hpp"
 
 namespace beamtrace::vlf {

@@ -1,13 +1,13 @@
 // ParallelSubfield: build (rasterise every triangle, sort the tile entries, build each tile's BSP)
 // and the in-place updates of dynamic scenes.
-#include "vlf/parallel_subfield.hpp"
+#include "vlf/build/parallel_subfield.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 
-#include "vlf/tile_footprint.hpp"
-#include "vlf/tile_rasteriser.hpp"
+#include "vlf/query/tile_footprint.hpp"
+#include "vlf/build/tile_rasteriser.hpp"
 
 namespace beamtrace::vlf {
 

@@ -2,9 +2,9 @@
 #include <cmath>
 
 #include "common/ray_validity.hpp"
-#include "vlf/direction_set_impl.hpp"
-#include "vlf/field_query.hpp"
-#include "vlf/packet_start.hpp"
+#include "vlf/directions/direction_set_impl.hpp"
+#include "vlf/query/field_query.hpp"
+#include "vlf/stream/packet_start.hpp"
 
 namespace beamtrace {
 namespace {

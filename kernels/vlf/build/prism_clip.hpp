@@ -3,7 +3,7 @@
 // before comparing the polygon's depth range with the splitting planes"), in canonical space.
 #include <algorithm>
 
-#include "vlf/canonical_frame.hpp"
+#include "vlf/directions/canonical_frame.hpp"
 
 namespace beamtrace::vlf {
 

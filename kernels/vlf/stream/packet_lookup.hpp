@@ -9,8 +9,8 @@
 #include "beamtrace/ray.hpp"
 #include "simd/isa.hpp"
 #include "common/watertight_ray.hpp"
-#include "vlf/canonical_frame.hpp"
-#include "vlf/canonical_ray.hpp"
+#include "vlf/directions/canonical_frame.hpp"
+#include "vlf/directions/canonical_ray.hpp"
 
 namespace beamtrace::vlf {
 

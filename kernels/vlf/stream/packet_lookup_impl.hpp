@@ -10,7 +10,7 @@
 #include <immintrin.h>
 #include <xsimd/xsimd.hpp>
 
-#include "vlf/packet_lookup.hpp"
+#include "vlf/stream/packet_lookup.hpp"
 
 namespace beamtrace::vlf {
 namespace {

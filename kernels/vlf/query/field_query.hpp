@@ -2,7 +2,7 @@
 // One ray's walk through the PSF its lookup chose, in either mode: shared by the single-ray and the
 // packet queries of VisibilityField. A closest hit comes back with the caller's triangle id; an
 // occlusion walk's hit only says that there is one.
-#include "vlf/tile_walk.hpp"
+#include "vlf/query/tile_walk.hpp"
 #include "vlf/vlf_impl.hpp"
 
 namespace beamtrace::vlf {

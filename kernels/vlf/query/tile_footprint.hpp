@@ -14,7 +14,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "vlf/canonical_frame.hpp"
+#include "vlf/directions/canonical_frame.hpp"
 
 namespace beamtrace::vlf {
 

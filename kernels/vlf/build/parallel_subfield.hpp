@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "beamtrace/scene.hpp"
-#include "vlf/canonical_frame.hpp"
-#include "vlf/prism_clip.hpp"
-#include "vlf/tile_bsp.hpp"
+#include "vlf/directions/canonical_frame.hpp"
+#include "vlf/build/prism_clip.hpp"
+#include "vlf/build/tile_bsp.hpp"
 
 namespace beamtrace::vlf {
 

@@ -25,7 +25,7 @@
 #include <tbb/parallel_for.h>
 
 #include "beamtrace/error.hpp"
-#include "vlf/direction_set_impl.hpp"
+#include "vlf/directions/direction_set_impl.hpp"
 
 namespace beamtrace {
 namespace {

@@ -13,7 +13,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "common/triangle_kernels_impl.hpp"
-#include "vlf/tile_ray_batch.hpp"
+#include "vlf/stream/tile_ray_batch.hpp"
 
 namespace beamtrace::vlf {
 namespace {

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "beamtrace/ray.hpp"
-#include "vlf/canonical_frame.hpp"
+#include "vlf/directions/canonical_frame.hpp"
 
 namespace beamtrace::vlf {
 

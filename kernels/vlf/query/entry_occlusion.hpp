@@ -14,7 +14,7 @@
 #include "beamtrace/scene.hpp"
 #include "common/triangle_reference.hpp"
 #include "common/watertight_ray.hpp"
-#include "vlf/tile_footprint.hpp"
+#include "vlf/query/tile_footprint.hpp"
 
 namespace beamtrace::vlf {
 

@@ -1,13 +1,13 @@
 // TileRayBins: one-tile rays of binned occlusion streams, binned per PSF, ordered by tile and traced
 // in batches of 16 (see tile_ray_stream.hpp).
-#include "vlf/tile_ray_stream.hpp"
+#include "vlf/stream/tile_ray_stream.hpp"
 
 #include <algorithm>
 #include <utility>
 
 #include <immintrin.h>
 
-#include "vlf/tile_walk.hpp"
+#include "vlf/query/tile_walk.hpp"
 
 namespace beamtrace::vlf {
 
