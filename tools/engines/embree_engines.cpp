@@ -31,7 +31,7 @@ void trace_all(EmbreeNativeRays& native, EmbreeContextFlag flag, int threads) {
 }
 
 void answers_of(const EmbreeNativeRays& native, bool closest, EngineAnswers& answers) {
-    answers.by_packet = false;
+    answers.form = EngineAnswers::Form::slots;
     if (closest) native.hits(answers.hits);
     else native.occluded(answers.occluded);
 }

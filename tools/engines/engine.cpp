@@ -5,8 +5,19 @@
 namespace beamtrace::workload {
 
 void EngineAnswers::to_slots(const RaySet& rays, bool closest) {
-    if (!by_packet) return;
-    by_packet = false;
+    if (form == Form::slots) return;
+    const Form from = form;
+    form = Form::slots;
+    if (from == Form::rays) {
+        if (closest) {
+            hits.assign(rays.slots(), Hit{});
+            for (std::size_t k = 0; k < ray_slots->size(); ++k) hits[(*ray_slots)[k]] = ray_hits[k];
+        } else {
+            occluded.assign(rays.slots(), 0);
+            for (std::size_t k = 0; k < ray_slots->size(); ++k) occluded[(*ray_slots)[k]] = ray_occluded[k];
+        }
+        return;
+    }
     if (closest) {
         hits.assign(rays.slots(), Hit{});
         for (std::size_t p = 0; p < rays.packets.size(); ++p)

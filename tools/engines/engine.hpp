@@ -32,14 +32,19 @@ struct EngineOptions {
 };
 
 // An engine's answers to a ray set's rays: per slot (packet * 16 + lane) for the comparison, the
-// counts and the pictures; engines that answer by packet fill the per-packet form, which
-// to_slots() spreads (outside any timed region). Inactive slots: no hit, not occluded.
+// counts and the pictures. Engines that answer by packet, or a compact span of the active rays,
+// fill that form instead, which to_slots() spreads (outside any timed region). Inactive slots: no
+// hit, not occluded.
 struct EngineAnswers {
+    enum class Form { slots, packets, rays };
+    Form form = Form::slots;                        // which form holds the last answers
     std::vector<Hit> hits;                          // per slot: closest hits
     std::vector<std::uint8_t> occluded;             // per slot: 1 = occluded
     std::vector<PacketHits16> packet_hits;          // per packet, as the library's packet queries give them
     std::vector<std::uint32_t> packet_occluded;     // per packet: bit i = lane i occluded
-    bool by_packet = false;                         // the per-packet form holds the last answers
+    std::vector<Hit> ray_hits;                      // per active ray, in slot order
+    std::vector<std::uint8_t> ray_occluded;
+    const std::vector<std::uint32_t>* ray_slots = nullptr;  // the slot of each active ray (the engine's)
 
     // Makes the per-slot form current (a no-op when it already is).
     void to_slots(const RaySet& rays, bool closest);

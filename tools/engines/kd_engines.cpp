@@ -7,16 +7,22 @@
 namespace beamtrace::workload {
 namespace {
 
-// The rays of every slot side by side, inactive slots as rays that describe no segment (every
-// engine reports nothing for those), for the span-of-rays queries.
-std::vector<Ray> slot_rays(const RaySet& rays) {
-    std::vector<Ray> out(rays.slots(), Ray{{0, 0, 0}, 1.0f, {0, 0, 1}, 0.0f});
-    for (std::size_t p = 0; p < rays.packets.size(); ++p)
-        for (std::uint32_t m = rays.packets[p].active & 0xFFFFu; m; m &= m - 1) {
+// The active rays side by side (for the span-of-rays queries) and their slots.
+struct ActiveRays {
+    std::vector<Ray> rays;
+    std::vector<std::uint32_t> slots;
+};
+ActiveRays active_rays(const RaySet& set) {
+    ActiveRays a;
+    a.rays.reserve(set.ray_count);
+    a.slots.reserve(set.ray_count);
+    for (std::size_t p = 0; p < set.packets.size(); ++p)
+        for (std::uint32_t m = set.packets[p].active & 0xFFFFu; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
-            out[p * 16 + std::size_t(i)] = rays.packets[p].ray(i);
+            a.rays.push_back(set.packets[p].ray(i));
+            a.slots.push_back(std::uint32_t(p * 16 + std::size_t(i)));
         }
-    return out;
+    return a;
 }
 
 nlohmann::json tree_json(const KdBuildStats& s) {
@@ -42,28 +48,32 @@ public:
     double build_seconds() const override { return tree_->stats().build_seconds; }
     std::size_t memory_bytes() const override { return tree_->stats().bytes; }
 
-    // The rays side by side, made once per ray set outside the timed passes.
+    // The active rays side by side, made once per ray set outside the timed passes.
     void prepare(const RaySet& rays) override {
-        if (prepared_for_ == &rays && prepared_packets_ == rays.packets.data() && rays_.size() == rays.slots()) return;
-        rays_ = slot_rays(rays);
+        if (prepared_for_ == &rays && prepared_packets_ == rays.packets.data() && active_.rays.size() == rays.ray_count)
+            return;
+        active_ = active_rays(rays);
         prepared_for_ = &rays;
         prepared_packets_ = rays.packets.data();
     }
 
+    // The answers of the active rays (by ray, spread after the timed region); the slots they belong
+    // to are prepare()'s. Rays not prepared are made here and their answers spread at once.
     void trace(const RaySet& rays, bool closest, EngineAnswers& a, int threads) const override {
-        const bool prepared = prepared_for_ == &rays && prepared_packets_ == rays.packets.data();
-        std::vector<Ray> made;
-        if (!prepared) made = slot_rays(rays);
-        const std::span<const Ray> in = prepared ? std::span<const Ray>(rays_) : std::span<const Ray>(made);
-        query(in, closest, a, QueryOptions{threads, nullptr});
+        if (prepared_for_ == &rays && prepared_packets_ == rays.packets.data()) {
+            query(active_, closest, a, QueryOptions{threads, nullptr});
+            return;
+        }
+        const ActiveRays made = active_rays(rays);
+        query(made, closest, a, QueryOptions{threads, nullptr});
+        a.to_slots(rays, closest);  // while `made` (the slot map) lives
     }
 
     nlohmann::json stats(const RaySet& rays) const override {
         QueryCounters c;
         EngineAnswers a;
-        const std::vector<Ray> in = slot_rays(rays);
+        const ActiveRays in = active_rays(rays);
         query(in, rays.mode == Mode::primary, a, QueryOptions{1, &c});
-        c.rays = rays.ray_count;  // the inactive slots' empty rays are not rays of the set
         const double n = c.rays ? double(c.rays) : 1.0;
         nlohmann::json j = {{"inner_steps_per_ray", double(c.inner_steps) / n},
                             {"leaves_per_ray", double(c.leaves) / n},
@@ -73,19 +83,20 @@ public:
     }
 
 private:
-    void query(std::span<const Ray> in, bool closest, EngineAnswers& a, const QueryOptions& options) const {
-        a.by_packet = false;
+    void query(const ActiveRays& in, bool closest, EngineAnswers& a, const QueryOptions& options) const {
+        a.form = EngineAnswers::Form::rays;
+        a.ray_slots = &in.slots;
         if (closest) {
-            a.hits.resize(in.size());
-            tree_->intersect(in, a.hits, options);
+            a.ray_hits.resize(in.rays.size());
+            tree_->intersect(in.rays, a.ray_hits, options);
         } else {
-            a.occluded.resize(in.size());
-            tree_->occluded(in, a.occluded, options);
+            a.ray_occluded.resize(in.rays.size());
+            tree_->occluded(in.rays, a.ray_occluded, options);
         }
     }
 
     std::unique_ptr<KdTree> tree_;
-    std::vector<Ray> rays_;  // prepare()'s rays
+    ActiveRays active_;  // prepare()'s rays
     const RaySet* prepared_for_ = nullptr;
     const Packet16* prepared_packets_ = nullptr;
 };
@@ -118,7 +129,7 @@ public:
 
 private:
     void query(const RaySet& rays, bool closest, EngineAnswers& a, const QueryOptions& options) const {
-        a.by_packet = true;
+        a.form = EngineAnswers::Form::packets;
         if (closest) {
             a.packet_hits.resize(rays.packets.size());
             tree_->intersect(rays.packets, a.packet_hits, options);
@@ -147,7 +158,7 @@ public:
 
     // The reference of the tests: every triangle against every active ray (not an accelerator).
     void trace(const RaySet& rays, bool closest, EngineAnswers& a, int threads) const override {
-        a.by_packet = false;
+        a.form = EngineAnswers::Form::slots;
         if (closest) a.hits.assign(rays.slots(), Hit{});
         else a.occluded.assign(rays.slots(), 0);
         for_packet_ranges(rays.packets.size(), threads, [&](std::size_t b, std::size_t e) {

@@ -65,7 +65,7 @@ private:
 
     // Tiles of beams when the packets form an image; packet by packet otherwise.
     void query(const RaySet& rays, bool closest, EngineAnswers& a, const QueryOptions& options) const {
-        a.by_packet = true;
+        a.form = EngineAnswers::Form::packets;
         const bool image = rays.packets_x > 0;
         if (closest) {
             a.packet_hits.resize(rays.packets.size());

@@ -67,7 +67,7 @@ public:
 
 private:
     void query(const RaySet& rays, bool closest, EngineAnswers& a, const QueryOptions& options) const {
-        a.by_packet = true;
+        a.form = EngineAnswers::Form::packets;
         if (closest) {
             a.packet_hits.resize(rays.packets.size());
             field_->intersect(std::span<const Packet16>(rays.packets), a.packet_hits, options);

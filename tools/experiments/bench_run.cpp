@@ -45,11 +45,7 @@ std::uint64_t count_hits(const std::vector<std::uint8_t>& occluded) {
     return n;
 }
 
-std::string fixed(double v, int digits) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-    return buf;
-}
+using report::fixed;
 
 }  // namespace
 

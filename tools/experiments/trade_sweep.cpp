@@ -22,11 +22,7 @@ std::string number(double v) {
     return buf;
 }
 
-std::string fixed(double v, int digits) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-    return buf;
-}
+using report::fixed;
 
 std::string kd_settings(const KdBuildRules& r) {
     return "Ct=" + number(r.traversal_cost) + " Ci=" + number(r.intersection_cost) +

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cstdlib>
 
 #include "beamtrace/error.hpp"
@@ -128,6 +129,12 @@ std::string Table::markdown() const {
     out += rule + '\n';
     for (const auto& row : rows_) emit(row);
     return out;
+}
+
+std::string fixed(double value, int digits) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, value);
+    return buf;
 }
 
 }  // namespace beamtrace::report

@@ -38,5 +38,7 @@ private:
 bool looks_numeric(const std::string& cell);
 // Characters in a UTF-8 string (code points).
 std::size_t display_width(const std::string& text);
+// A cell of a number with `digits` digits after the point ("%.*f").
+std::string fixed(double value, int digits);
 
 }  // namespace beamtrace::report
