@@ -6,10 +6,10 @@
 // Per scene, the kd-tree, the Embree scene and the rays are built once, on first use, in a static
 // cache (never timed). items_processed = rays, so Google Benchmark prints rays per second. Every
 // benchmark reports hit_rate (rays that hit, or are occluded); the kd benchmarks also report
-// tests_per_ray (ray/triangle tests), leaves_per_ray, steps_per_ray (inner nodes) and vs_embree1 = kd rays/s divided by the rays/s of the Embree
-// single-ray benchmark of the same scene and mode, measured in this process (it is registered, and
-// so run, just before; if a filter left it out, its rate is measured in the kd benchmark's set-up).
-// Both rates are rays per second of thread CPU time, as in Google Benchmark's items_per_second.
+// tests_per_ray (ray/triangle tests), leaves_per_ray, steps_per_ray (inner nodes) and vs_embree1 = kd rays/s divided by
+// the rays/s of the Embree single-ray benchmark of the same scene and mode, measured in this process (it is registered,
+// and so run, just before; if a filter left it out, its rate is measured in the kd benchmark's set-up). Both rates are
+// rays per second of thread CPU time, as in Google Benchmark's items_per_second.
 #include <benchmark/benchmark.h>
 
 #include <time.h>
@@ -67,8 +67,8 @@ struct SceneCase {
     std::string description;
     std::optional<workload::Workload> work;
     std::optional<KdTree> tree;
-    Rays rays[2];                   // kPrimary, kShadow
-    double embree1_rate[2] = {0, 0};  // rays/s of the last Embree single-ray run, per mode (0: none yet)
+    Rays rays[2];                               // kPrimary, kShadow
+    double embree1_rate[2] = {0, 0};            // rays/s of the last Embree single-ray run, per mode (0: none yet)
     bool embree1_in_setup[2] = {false, false};  // that rate was measured by the kd benchmark itself
 };
 

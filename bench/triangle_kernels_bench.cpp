@@ -39,10 +39,10 @@ using beamtrace::TriangleKernels;
 using beamtrace::WatertightPacket16;
 using beamtrace::WatertightRay;
 
-constexpr int kRays = 2048;            // rays in the pool (kRays / 16 packets)
+constexpr int kRays = 2048;  // rays in the pool (kRays / 16 packets)
 constexpr int kPackets = kRays / 16;
-constexpr int kGroups = 32;            // groups of 8 triangles (64 groups of 4 for ray_x4)
-constexpr int kPacketTriangles = 32;   // the first triangles of the pool, for packet_x1
+constexpr int kGroups = 32;           // groups of 8 triangles (64 groups of 4 for ray_x4)
+constexpr int kPacketTriangles = 32;  // the first triangles of the pool, for packet_x1
 constexpr int kTriangles = kGroups * 8;
 
 // Geometry of the pool, tuned for a hit rate of about 40% per ray/triangle test: roughly equilateral
@@ -81,12 +81,12 @@ Triangle random_triangle(Random& rng) {
 
 // Everything the benchmarks read, built on first use.
 struct Pool {
-    std::vector<Triangle> triangles;              // kTriangles
-    std::vector<const Triangle*> pointers;        // &triangles[i]: group g of n = pointers[g*n, g*n+n)
-    std::vector<Ray> rays;                        // kRays
-    std::vector<WatertightRay> wrays;             // the same rays, set up for the kernels
-    std::vector<Packet16> packets;                // kPackets, all lanes active
-    std::vector<WatertightPacket16> wpackets;     // the same packets, set up for the kernels
+    std::vector<Triangle> triangles;           // kTriangles
+    std::vector<const Triangle*> pointers;     // &triangles[i]: group g of n = pointers[g*n, g*n+n)
+    std::vector<Ray> rays;                     // kRays
+    std::vector<WatertightRay> wrays;          // the same rays, set up for the kernels
+    std::vector<Packet16> packets;             // kPackets, all lanes active
+    std::vector<WatertightPacket16> wpackets;  // the same packets, set up for the kernels
     std::vector<std::unique_ptr<beamtrace::oracle::EmbreeOracle>> embree8;  // one per group of 8
     std::vector<std::unique_ptr<beamtrace::oracle::EmbreeOracle>> embree1;  // one per packet triangle
 

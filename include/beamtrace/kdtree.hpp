@@ -60,7 +60,8 @@ public:
     bool occluded(const Ray& ray) const;
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, const QueryOptions& options = {}) const;
     void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded, const QueryOptions& options = {}) const;
-    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, const QueryOptions& options = {}) const;
+    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits,
+                   const QueryOptions& options = {}) const;
     void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded,
                   const QueryOptions& options = {}) const;
 

@@ -70,13 +70,15 @@ public:
     bool occluded(const Ray& ray) const;
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, const QueryOptions& options = {}) const;
     void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded, const QueryOptions& options = {}) const;
-    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, const QueryOptions& options = {}) const;
+    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits,
+                   const QueryOptions& options = {}) const;
     void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded,
                   const QueryOptions& options = {}) const;
 
     const MlrtaSettings& settings() const;
     const KdTree& tree() const;
-    std::size_t memory_bytes() const;  // MLRTA's own tables (subtree sizes, covered-leaf flags) and the tree's packet tables
+    std::size_t memory_bytes()
+        const;  // MLRTA's own tables (subtree sizes, covered-leaf flags) and the tree's packet tables
 
     struct Impl;  // opaque
 

@@ -61,8 +61,8 @@ struct QueryCounters {
 };
 
 struct QueryOptions {
-    int threads = 1;                     // TBB threads of the call (>= 1)
-    QueryCounters* counters = nullptr;   // work counts of the call are added here when given
+    int threads = 1;                    // TBB threads of the call (>= 1)
+    QueryCounters* counters = nullptr;  // work counts of the call are added here when given
 };
 
 }  // namespace beamtrace

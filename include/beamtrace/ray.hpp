@@ -61,9 +61,14 @@ struct alignas(64) Packet16 {
         return Ray{{org_x[i], org_y[i], org_z[i]}, tnear[i], {dir_x[i], dir_y[i], dir_z[i]}, tfar[i]};
     }
     void set_ray(int i, const Ray& r) {
-        org_x[i] = r.org.x; org_y[i] = r.org.y; org_z[i] = r.org.z;
-        dir_x[i] = r.dir.x; dir_y[i] = r.dir.y; dir_z[i] = r.dir.z;
-        tnear[i] = r.tnear; tfar[i] = r.tfar;
+        org_x[i] = r.org.x;
+        org_y[i] = r.org.y;
+        org_z[i] = r.org.z;
+        dir_x[i] = r.dir.x;
+        dir_y[i] = r.dir.y;
+        dir_z[i] = r.dir.z;
+        tnear[i] = r.tnear;
+        tfar[i] = r.tfar;
     }
 };
 
@@ -74,7 +79,12 @@ struct alignas(64) PacketHits16 {
     float u[16], v[16];
 
     Hit hit(int i) const { return Hit{t[i], triangle[i], u[i], v[i]}; }
-    void set_hit(int i, const Hit& h) { t[i] = h.t; triangle[i] = h.triangle; u[i] = h.u; v[i] = h.v; }
+    void set_hit(int i, const Hit& h) {
+        t[i] = h.t;
+        triangle[i] = h.triangle;
+        u[i] = h.u;
+        v[i] = h.v;
+    }
 };
 
 }  // namespace beamtrace

@@ -34,8 +34,14 @@ struct Box {
     Float3 upper{-std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
                  -std::numeric_limits<float>::infinity()};
 
-    constexpr void extend(Float3 p) { lower = min(lower, p); upper = max(upper, p); }
-    constexpr void extend(const Box& b) { lower = min(lower, b.lower); upper = max(upper, b.upper); }
+    constexpr void extend(Float3 p) {
+        lower = min(lower, p);
+        upper = max(upper, p);
+    }
+    constexpr void extend(const Box& b) {
+        lower = min(lower, b.lower);
+        upper = max(upper, b.upper);
+    }
     constexpr bool empty() const { return lower.x > upper.x || lower.y > upper.y || lower.z > upper.z; }
     constexpr Float3 extent() const { return upper - lower; }
     constexpr Float3 center() const { return (lower + upper) * 0.5f; }

@@ -84,11 +84,11 @@ struct VlfOptions {
 struct VlfStats {
     int directions = 0, tiles = 0, depth = 0;
     std::size_t psfs_built = 0;
-    std::size_t tile_entries = 0;    // triangle ids over every leaf of every built PSF
-    std::size_t leaves = 0;          // tile-BSP leaves over every built PSF
-    std::size_t memory_bytes = 0;    // built PSFs, direction table, the field's copy of the triangles
-    std::size_t stream_bytes = 0;    // buffers of binned occlusion streams, kept for the next stream
-    double build_seconds = 0.0;      // over every PSF built so far (lazy builds included)
+    std::size_t tile_entries = 0;  // triangle ids over every leaf of every built PSF
+    std::size_t leaves = 0;        // tile-BSP leaves over every built PSF
+    std::size_t memory_bytes = 0;  // built PSFs, direction table, the field's copy of the triangles
+    std::size_t stream_bytes = 0;  // buffers of binned occlusion streams, kept for the next stream
+    double build_seconds = 0.0;    // over every PSF built so far (lazy builds included)
 };
 
 // A 3x4 affine map p -> m * p + t (row-major m), applied to triangle corners in float.
@@ -124,7 +124,8 @@ public:
     bool occluded(const Ray& ray) const;
     void intersect(std::span<const Ray> rays, std::span<Hit> hits, const QueryOptions& options = {}) const;
     void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded, const QueryOptions& options = {}) const;
-    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, const QueryOptions& options = {}) const;
+    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits,
+                   const QueryOptions& options = {}) const;
     void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded,
                   const QueryOptions& options = {}) const;
 

@@ -16,7 +16,8 @@ inline constexpr float kRelativePad = 1.0f / 65536.0f;
 // lo - (|lo| R + pad) and hi + (|hi| R + pad): one rounding order, which the 4-wide SSE form of the
 // inverse culling (split_rectangle.hpp) repeats lane by lane.
 inline Interval widen(Interval a, float absolute_pad) {
-    return {a.lo - (std::fabs(a.lo) * kRelativePad + absolute_pad), a.hi + (std::fabs(a.hi) * kRelativePad + absolute_pad)};
+    return {a.lo - (std::fabs(a.lo) * kRelativePad + absolute_pad),
+            a.hi + (std::fabs(a.hi) * kRelativePad + absolute_pad)};
 }
 
 inline Interval operator+(Interval a, Interval b) { return {a.lo + b.lo, a.hi + b.hi}; }

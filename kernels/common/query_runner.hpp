@@ -21,7 +21,8 @@ inline void check_query(const char* what, std::size_t inputs, std::size_t output
     if (inputs != outputs)
         throw Error(std::string(what) + ": " + std::to_string(inputs) + " inputs but room for " +
                     std::to_string(outputs) + " answers (the spans must have the same size)");
-    if (options.threads < 1) throw Error(std::string(what) + ": threads must be at least 1, not " + std::to_string(options.threads));
+    if (options.threads < 1)
+        throw Error(std::string(what) + ": threads must be at least 1, not " + std::to_string(options.threads));
 }
 
 // f(begin, end, counters) over parts of [0, n) of at least `grain` items; counters is null when the

@@ -32,8 +32,9 @@ bool zero_area(const Triangle& t) {
 
 Scene::Scene(std::span<const Float3> vertices, std::span<const std::uint32_t> indices)
     : Scene(vertices.empty() ? nullptr : &vertices[0].x, vertices.size(), indices.data(),
-            indices.size() % 3 == 0 ? indices.size() / 3 : throw Error("scene: index count " +
-                std::to_string(indices.size()) + " is not a multiple of 3")) {}
+            indices.size() % 3 == 0
+                ? indices.size() / 3
+                : throw Error("scene: index count " + std::to_string(indices.size()) + " is not a multiple of 3")) {}
 
 Scene::Scene(const float* xyz, std::size_t vertex_count, const std::uint32_t* idx, std::size_t triangle_count) {
     if (triangle_count == 0) throw Error("scene: empty scene (no triangles)");
@@ -51,8 +52,8 @@ Scene::Scene(const float* xyz, std::size_t vertex_count, const std::uint32_t* id
         const Float3 p{xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
         for (int a = 0; a < 3; ++a) {
             if (!std::isfinite(p[a]))
-                throw Error("scene: vertex " + std::to_string(i) + " has a " +
-                            (std::isnan(p[a]) ? "NaN" : "infinite") + " coordinate (" + "xyz"[a] + ")");
+                throw Error("scene: vertex " + std::to_string(i) + " has a " + (std::isnan(p[a]) ? "NaN" : "infinite") +
+                            " coordinate (" + "xyz"[a] + ")");
         }
         data->vertices[i] = p;
     }

@@ -12,7 +12,9 @@ void scalar_ray_xn(const WatertightRay& r, const Triangle* const* tris, int n, L
     for (int i = 0; i < n; ++i) {
         TriangleHit h;
         if (intersect_triangle(r, *tris[i], h)) {
-            out.t[i] = h.t; out.u[i] = h.u; out.v[i] = h.v;
+            out.t[i] = h.t;
+            out.u[i] = h.u;
+            out.v[i] = h.v;
             out.mask |= 1u << i;
         }
     }
@@ -24,12 +26,19 @@ void scalar_packet_x1(const WatertightPacket16& p, const Triangle& tri, LaneHits
         if (((p.active >> i) & 1u) == 0) continue;
         WatertightRay r;
         r.org = Float3{p.org_x[i], p.org_y[i], p.org_z[i]};
-        r.kx = int(p.kx[i]); r.ky = int(p.ky[i]); r.kz = int(p.kz[i]);
-        r.sx = p.sx[i]; r.sy = p.sy[i]; r.sz = p.sz[i];
-        r.tnear = p.tnear[i]; r.tfar = p.tfar[i];
+        r.kx = int(p.kx[i]);
+        r.ky = int(p.ky[i]);
+        r.kz = int(p.kz[i]);
+        r.sx = p.sx[i];
+        r.sy = p.sy[i];
+        r.sz = p.sz[i];
+        r.tnear = p.tnear[i];
+        r.tfar = p.tfar[i];
         TriangleHit h;
         if (intersect_triangle(r, tri, h)) {
-            out.t[i] = h.t; out.u[i] = h.u; out.v[i] = h.v;
+            out.t[i] = h.t;
+            out.u[i] = h.u;
+            out.v[i] = h.v;
             out.mask |= 1u << i;
         }
     }

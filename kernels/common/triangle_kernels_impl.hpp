@@ -23,9 +23,11 @@ struct Corners {
 // lane offset `base` and returns their bits (relative to base).
 template <class Arch>
 [[gnu::always_inline]] inline std::uint32_t watertight_core(const Corners<Arch>& k, const xsimd::batch<float, Arch>& sx,
-                              const xsimd::batch<float, Arch>& sy, const xsimd::batch<float, Arch>& sz,
-                              const xsimd::batch<float, Arch>& tnear, const xsimd::batch<float, Arch>& tfar,
-                              std::uint32_t valid_bits, LaneHits& out, int base) {
+                                                            const xsimd::batch<float, Arch>& sy,
+                                                            const xsimd::batch<float, Arch>& sz,
+                                                            const xsimd::batch<float, Arch>& tnear,
+                                                            const xsimd::batch<float, Arch>& tfar,
+                                                            std::uint32_t valid_bits, LaneHits& out, int base) {
     using B = xsimd::batch<float, Arch>;
     constexpr int W = int(B::size);
     const B zero(0.0f);
@@ -37,14 +39,22 @@ template <class Arch>
     B w = bx * ay - by * ax;
     if (lane_bits<Arch>((u == zero) | (v == zero) | (w == zero)) & valid_bits) {
         alignas(64) float su[W], sv[W], sw[W], fax[W], fay[W], fbx[W], fby[W], fcx[W], fcy[W];
-        u.store_aligned(su); v.store_aligned(sv); w.store_aligned(sw);
-        ax.store_aligned(fax); ay.store_aligned(fay); bx.store_aligned(fbx);
-        by.store_aligned(fby); cx.store_aligned(fcx); cy.store_aligned(fcy);
+        u.store_aligned(su);
+        v.store_aligned(sv);
+        w.store_aligned(sw);
+        ax.store_aligned(fax);
+        ay.store_aligned(fay);
+        bx.store_aligned(fbx);
+        by.store_aligned(fby);
+        cx.store_aligned(fcx);
+        cy.store_aligned(fcy);
         for (int i = 0; i < W; ++i) {
             if (su[i] == 0.0f || sv[i] == 0.0f || sw[i] == 0.0f)
                 watertight_edges_double(fax[i], fay[i], fbx[i], fby[i], fcx[i], fcy[i], su[i], sv[i], sw[i]);
         }
-        u = B::load_aligned(su); v = B::load_aligned(sv); w = B::load_aligned(sw);
+        u = B::load_aligned(su);
+        v = B::load_aligned(sv);
+        w = B::load_aligned(sw);
     }
     const auto negative = (u < zero) | (v < zero) | (w < zero);
     const auto positive = (u > zero) | (v > zero) | (w > zero);
@@ -52,8 +62,7 @@ template <class Arch>
     const B t_scaled = (u * (sz * k.az) + v * (sz * k.bz)) + w * (sz * k.cz);
     const B rcp = B(1.0f) / det;
     const B t = t_scaled * rcp;
-    const auto inside = ~(negative & positive) & (det != zero) & (t >= tnear) & (t <= tfar) &
-                        (t < B(kInfinity));
+    const auto inside = ~(negative & positive) & (det != zero) & (t >= tnear) & (t <= tfar) & (t < B(kInfinity));
     const std::uint32_t bits = lane_bits<Arch>(inside) & valid_bits;
     if (bits != 0) {
         t.store_aligned(out.t + base);
@@ -65,7 +74,8 @@ template <class Arch>
 
 // One ray against up to W triangles (lane i = tris[i]).
 template <class Arch>
-[[gnu::always_inline]] inline void ray_xw(const WatertightRay& r, const Triangle* const* tris, int n, LaneHits& out, int base) {
+[[gnu::always_inline]] inline void ray_xw(const WatertightRay& r, const Triangle* const* tris, int n, LaneHits& out,
+                                          int base) {
     using B = xsimd::batch<float, Arch>;
     constexpr int W = int(B::size);
     alignas(64) float comp[9][W];
@@ -77,20 +87,23 @@ template <class Arch>
     const float* o = &r.org.x;
     const B okx(o[r.kx]), oky(o[r.ky]), okz(o[r.kz]);
     Corners<Arch> k;
-    k.ax = B::load_aligned(comp[0 + r.kx]) - okx; k.ay = B::load_aligned(comp[0 + r.ky]) - oky;
+    k.ax = B::load_aligned(comp[0 + r.kx]) - okx;
+    k.ay = B::load_aligned(comp[0 + r.ky]) - oky;
     k.az = B::load_aligned(comp[0 + r.kz]) - okz;
-    k.bx = B::load_aligned(comp[3 + r.kx]) - okx; k.by = B::load_aligned(comp[3 + r.ky]) - oky;
+    k.bx = B::load_aligned(comp[3 + r.kx]) - okx;
+    k.by = B::load_aligned(comp[3 + r.ky]) - oky;
     k.bz = B::load_aligned(comp[3 + r.kz]) - okz;
-    k.cx = B::load_aligned(comp[6 + r.kx]) - okx; k.cy = B::load_aligned(comp[6 + r.ky]) - oky;
+    k.cx = B::load_aligned(comp[6 + r.kx]) - okx;
+    k.cy = B::load_aligned(comp[6 + r.ky]) - oky;
     k.cz = B::load_aligned(comp[6 + r.kz]) - okz;
     const std::uint32_t valid = (n >= W) ? ((1u << W) - 1u) : ((1u << n) - 1u);
-    out.mask |= watertight_core<Arch>(k, B(r.sx), B(r.sy), B(r.sz), B(r.tnear), B(r.tfar), valid, out, base)
-                << base;
+    out.mask |= watertight_core<Arch>(k, B(r.sx), B(r.sy), B(r.sz), B(r.tnear), B(r.tfar), valid, out, base) << base;
 }
 
 // Lanes [base, base + W) of a packet against one triangle.
 template <class Arch>
-[[gnu::always_inline]] inline void packet_xw(const WatertightPacket16& p, const Triangle& tri, LaneHits& out, int base) {
+[[gnu::always_inline]] inline void packet_xw(const WatertightPacket16& p, const Triangle& tri, LaneHits& out,
+                                             int base) {
     using B = xsimd::batch<float, Arch>;
     constexpr int W = int(B::size);
     const std::uint32_t valid = (p.active >> base) & ((1u << W) - 1u);
@@ -104,19 +117,30 @@ template <class Arch>
         const float* org[3] = {p.org_x, p.org_y, p.org_z};
         if (p.same_origin) {
             const float o[3] = {org[0][p.first], org[1][p.first], org[2][p.first]};
-            k.ax = B(v[kx] - o[kx]); k.ay = B(v[ky] - o[ky]); k.az = B(v[kz] - o[kz]);
-            k.bx = B(v[3 + kx] - o[kx]); k.by = B(v[3 + ky] - o[ky]); k.bz = B(v[3 + kz] - o[kz]);
-            k.cx = B(v[6 + kx] - o[kx]); k.cy = B(v[6 + ky] - o[ky]); k.cz = B(v[6 + kz] - o[kz]);
+            k.ax = B(v[kx] - o[kx]);
+            k.ay = B(v[ky] - o[ky]);
+            k.az = B(v[kz] - o[kz]);
+            k.bx = B(v[3 + kx] - o[kx]);
+            k.by = B(v[3 + ky] - o[ky]);
+            k.bz = B(v[3 + kz] - o[kz]);
+            k.cx = B(v[6 + kx] - o[kx]);
+            k.cy = B(v[6 + ky] - o[ky]);
+            k.cz = B(v[6 + kz] - o[kz]);
         } else {
             const B ox = B::load_aligned(org[kx] + base), oy = B::load_aligned(org[ky] + base),
                     oz = B::load_aligned(org[kz] + base);
-            k.ax = B(v[kx]) - ox; k.ay = B(v[ky]) - oy; k.az = B(v[kz]) - oz;
-            k.bx = B(v[3 + kx]) - ox; k.by = B(v[3 + ky]) - oy; k.bz = B(v[3 + kz]) - oz;
-            k.cx = B(v[6 + kx]) - ox; k.cy = B(v[6 + ky]) - oy; k.cz = B(v[6 + kz]) - oz;
+            k.ax = B(v[kx]) - ox;
+            k.ay = B(v[ky]) - oy;
+            k.az = B(v[kz]) - oz;
+            k.bx = B(v[3 + kx]) - ox;
+            k.by = B(v[3 + ky]) - oy;
+            k.bz = B(v[3 + kz]) - oz;
+            k.cx = B(v[6 + kx]) - ox;
+            k.cy = B(v[6 + ky]) - oy;
+            k.cz = B(v[6 + kz]) - oz;
         }
     } else {
-        const B kx = B::load_aligned(p.kx + base), ky = B::load_aligned(p.ky + base),
-                kz = B::load_aligned(p.kz + base);
+        const B kx = B::load_aligned(p.kx + base), ky = B::load_aligned(p.ky + base), kz = B::load_aligned(p.kz + base);
         const B ox = B::load_aligned(p.org_x + base), oy = B::load_aligned(p.org_y + base),
                 oz = B::load_aligned(p.org_z + base);
         const B one(1.0f), zero(0.0f);
@@ -127,9 +151,15 @@ template <class Arch>
         const B ax = B(tri.v0.x) - ox, ay = B(tri.v0.y) - oy, az = B(tri.v0.z) - oz;
         const B bx = B(tri.v1.x) - ox, by = B(tri.v1.y) - oy, bz = B(tri.v1.z) - oz;
         const B cx = B(tri.v2.x) - ox, cy = B(tri.v2.y) - oy, cz = B(tri.v2.z) - oz;
-        k.ax = pick(kx, ax, ay, az); k.ay = pick(ky, ax, ay, az); k.az = pick(kz, ax, ay, az);
-        k.bx = pick(kx, bx, by, bz); k.by = pick(ky, bx, by, bz); k.bz = pick(kz, bx, by, bz);
-        k.cx = pick(kx, cx, cy, cz); k.cy = pick(ky, cx, cy, cz); k.cz = pick(kz, cx, cy, cz);
+        k.ax = pick(kx, ax, ay, az);
+        k.ay = pick(ky, ax, ay, az);
+        k.az = pick(kz, ax, ay, az);
+        k.bx = pick(kx, bx, by, bz);
+        k.by = pick(ky, bx, by, bz);
+        k.bz = pick(kz, bx, by, bz);
+        k.cx = pick(kx, cx, cy, cz);
+        k.cy = pick(ky, cx, cy, cz);
+        k.cz = pick(kz, cx, cy, cz);
     }
     out.mask |= watertight_core<Arch>(k, B::load_aligned(p.sx + base), B::load_aligned(p.sy + base),
                                       B::load_aligned(p.sz + base), B::load_aligned(p.tnear + base),

@@ -2,8 +2,7 @@
 
 namespace beamtrace {
 
-void watertight_edges_double(float ax, float ay, float bx, float by, float cx, float cy, float& u, float& v,
-                             float& w) {
+void watertight_edges_double(float ax, float ay, float bx, float by, float cx, float cy, float& u, float& v, float& w) {
     const double cxby = double(cx) * double(by), cybx = double(cy) * double(bx);
     const double axcy = double(ax) * double(cy), aycx = double(ay) * double(cx);
     const double bxay = double(bx) * double(ay), byax = double(by) * double(ax);

@@ -16,7 +16,6 @@ bool intersect_triangle(const WatertightRay& ray, const Triangle& tri, TriangleH
 
 // The edge functions recomputed in double precision when one of them is exactly zero in float
 // (the paper's fallback that makes the test watertight). Shared by the SIMD kernels' slow lanes.
-void watertight_edges_double(float ax, float ay, float bx, float by, float cx, float cy, float& u, float& v,
-                             float& w);
+void watertight_edges_double(float ax, float ay, float bx, float by, float cx, float cy, float& u, float& v, float& w);
 
 }  // namespace beamtrace

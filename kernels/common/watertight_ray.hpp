@@ -60,22 +60,32 @@ inline WatertightPacket16 make_watertight_packet_reference(const Packet16& p) {
         Ray r = p.ray(i);
         if (((p.active >> i) & 1u) == 0) r.dir = Float3{0, 0, 1};  // inactive lanes: harmless values
         const WatertightRay s = make_watertight_ray(r);
-        w.org_x[i] = s.org.x; w.org_y[i] = s.org.y; w.org_z[i] = s.org.z;
-        w.kx[i] = float(s.kx); w.ky[i] = float(s.ky); w.kz[i] = float(s.kz);
-        w.sx[i] = s.sx; w.sy[i] = s.sy; w.sz[i] = s.sz;
-        w.tnear[i] = s.tnear; w.tfar[i] = s.tfar;
+        w.org_x[i] = s.org.x;
+        w.org_y[i] = s.org.y;
+        w.org_z[i] = s.org.z;
+        w.kx[i] = float(s.kx);
+        w.ky[i] = float(s.ky);
+        w.kz[i] = float(s.kz);
+        w.sx[i] = s.sx;
+        w.sy[i] = s.sy;
+        w.sz[i] = s.sz;
+        w.tnear[i] = s.tnear;
+        w.tfar[i] = s.tfar;
     }
     w.active = p.active & 0xFFFFu;
     if (w.active != 0) {
         const int f = __builtin_ctz(w.active);
         w.first = f;
-        w.axis[0] = int(w.kx[f]); w.axis[1] = int(w.ky[f]); w.axis[2] = int(w.kz[f]);
+        w.axis[0] = int(w.kx[f]);
+        w.axis[1] = int(w.ky[f]);
+        w.axis[2] = int(w.kz[f]);
         w.same_axes = w.same_origin = true;
         for (std::uint32_t b = w.active; b; b &= b - 1) {
             const int i = __builtin_ctz(b);
             w.same_axes = w.same_axes && w.kx[i] == w.kx[f] && w.ky[i] == w.ky[f] && w.kz[i] == w.kz[f];
             // Bit patterns, not values: 0 and -0 give differently signed differences.
-            w.same_origin = w.same_origin && std::bit_cast<std::uint32_t>(w.org_x[i]) == std::bit_cast<std::uint32_t>(w.org_x[f]) &&
+            w.same_origin = w.same_origin &&
+                            std::bit_cast<std::uint32_t>(w.org_x[i]) == std::bit_cast<std::uint32_t>(w.org_x[f]) &&
                             std::bit_cast<std::uint32_t>(w.org_y[i]) == std::bit_cast<std::uint32_t>(w.org_y[f]) &&
                             std::bit_cast<std::uint32_t>(w.org_z[i]) == std::bit_cast<std::uint32_t>(w.org_z[f]);
         }

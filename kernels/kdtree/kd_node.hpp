@@ -51,8 +51,8 @@ static_assert(sizeof(KdNode) == 8, "kd-tree nodes are 8 bytes");
 
 struct KdTree::Impl {
     Scene scene;
-    Box bounds;                          // box of the root cell
-    std::vector<KdNode> nodes;           // nodes[0] is the root
+    Box bounds;                               // box of the root cell
+    std::vector<KdNode> nodes;                // nodes[0] is the root
     std::vector<std::uint32_t> triangle_ids;  // leaves' ranges
     // The corners of triangle_ids[r] at r: each leaf's triangles side by side in memory, read front
     // to back by traversals (instead of scattered over the scene; room: a third less time per
@@ -76,7 +76,7 @@ struct KdTree::Impl {
 
 private:
     mutable std::once_flag packet_once_;
-    mutable std::shared_ptr<const kdtree::PacketTables> packet_;  // owner, set once under packet_once_
+    mutable std::shared_ptr<const kdtree::PacketTables> packet_;             // owner, set once under packet_once_
     mutable std::atomic<const kdtree::PacketTables*> packet_made_{nullptr};  // readable by anyone
 };
 

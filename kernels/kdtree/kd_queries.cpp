@@ -18,14 +18,18 @@ void trace_rays(const KdTree::Impl& kd, std::span<const Ray> rays, Out* out, con
         if (c) {
             for (std::size_t i = b; i < e; ++i) {
                 const Hit h = traverse_ray<kOcclusion, true>(kd, rays[i], c);
-                if constexpr (kOcclusion) out[i] = h.hit();
-                else out[i] = h;
+                if constexpr (kOcclusion)
+                    out[i] = h.hit();
+                else
+                    out[i] = h;
             }
         } else {
             for (std::size_t i = b; i < e; ++i) {
                 const Hit h = traverse_ray<kOcclusion, false>(kd, rays[i], nullptr);
-                if constexpr (kOcclusion) out[i] = h.hit();
-                else out[i] = h;
+                if constexpr (kOcclusion)
+                    out[i] = h.hit();
+                else
+                    out[i] = h;
             }
         }
     });
@@ -40,8 +44,10 @@ void trace_packets(const KdTree::Impl& kd, const KdExperimental& x, std::span<co
         for (std::size_t p = b; p < e; ++p) {
             PacketHits16* h = kOcclusion ? nullptr : hits + p;
             std::uint32_t* o = kOcclusion ? bits + p : nullptr;
-            if (c) kdtree::trace_packet<kOcclusion, true>(context, packets[p], root, h, o, c);
-            else kdtree::trace_packet<kOcclusion, false>(context, packets[p], root, h, o, nullptr);
+            if (c)
+                kdtree::trace_packet<kOcclusion, true>(context, packets[p], root, h, o, c);
+            else
+                kdtree::trace_packet<kOcclusion, false>(context, packets[p], root, h, o, nullptr);
         }
     });
 }
@@ -61,7 +67,8 @@ void KdTree::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occlude
     trace_rays<true>(*impl_, rays, occluded.data(), options);
 }
 
-void KdTree::intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, const QueryOptions& options) const {
+void KdTree::intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits,
+                       const QueryOptions& options) const {
     check_query("KdTree::intersect", packets.size(), hits.size(), options);
     trace_packets<false>(*impl_, experimental_, packets, hits.data(), nullptr, options);
 }

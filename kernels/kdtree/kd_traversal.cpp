@@ -108,8 +108,10 @@ Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counte
             const Triangle* batch[8];
             for (int i = 0; i < n; ++i) batch[i] = corners + j + i;
             LaneHits lanes;
-            if (n <= 4) kernels.ray_x4(wray, batch, n, lanes);
-            else kernels.ray_x8(wray, batch, n, lanes);
+            if (n <= 4)
+                kernels.ray_x4(wray, batch, n, lanes);
+            else
+                kernels.ray_x8(wray, batch, n, lanes);
             if constexpr (kOcclusion) {
                 if (lanes.mask) {
                     best.triangle = leaf[j];

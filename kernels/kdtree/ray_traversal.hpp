@@ -12,7 +12,9 @@ namespace beamtrace::kdtree {
 template <bool kOcclusion, bool kCount>
 Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counters);
 
-inline Hit intersect_one(const KdTree::Impl& tree, const Ray& ray) { return traverse_ray<false, false>(tree, ray, nullptr); }
+inline Hit intersect_one(const KdTree::Impl& tree, const Ray& ray) {
+    return traverse_ray<false, false>(tree, ray, nullptr);
+}
 inline bool occluded_one(const KdTree::Impl& tree, const Ray& ray) {
     return traverse_ray<true, false>(tree, ray, nullptr).hit();
 }

@@ -48,7 +48,8 @@ public:
         out_.bounds = scene_.bounds();
         const Box& b = out_.bounds;
         double scale = b.diagonal();
-        for (int k = 0; k < 3; ++k) scale = std::max({scale, double(std::fabs(b.lower[k])), double(std::fabs(b.upper[k]))});
+        for (int k = 0; k < 3; ++k)
+            scale = std::max({scale, double(std::fabs(b.lower[k])), double(std::fabs(b.upper[k]))});
         slack_ = std::ldexp(scale, -21);
         scene_area_ = b.surface_area();
         root_volume_ = b.volume();
@@ -63,7 +64,9 @@ public:
             const Triangle& tri = scene_.triangle(t);
             area_[t] = 0.5 * length(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
             Box tb;
-            tb.extend(tri.v0); tb.extend(tri.v1); tb.extend(tri.v2);
+            tb.extend(tri.v0);
+            tb.extend(tri.v1);
+            tb.extend(tri.v2);
             append_events(t, tb, events);
             ++n;
         }
@@ -220,13 +223,17 @@ private:
         for (const SplitEvent& e : events[s.axis]) {
             const std::uint32_t t = e.tri();
             switch (e.type()) {
-                case kStart: side_[t] = e.pos >= s.pos ? kRight : kBoth; break;
+                case kStart:
+                    side_[t] = e.pos >= s.pos ? kRight : kBoth;
+                    break;
                 case kPlanar:
                     side_[t] = (e.pos < s.pos || (e.pos == s.pos && s.planar_left)) ? kLeft : kRight;
                     break;
                 case kEnd:
-                    if (e.pos <= s.pos) side_[t] = kLeft;
-                    else if (side_[t] == kBoth) both_.push_back(t);
+                    if (e.pos <= s.pos)
+                        side_[t] = kLeft;
+                    else if (side_[t] == kBoth)
+                        both_.push_back(t);
                     break;
             }
         }
@@ -234,8 +241,10 @@ private:
             left_events[k].reserve(events[k].size() / 2 + 2 * both_.size());
             right_events[k].reserve(events[k].size() / 2 + 2 * both_.size());
             for (const SplitEvent& e : events[k]) {
-                if (side_[e.tri()] == kLeft) left_events[k].push_back(e);
-                else if (side_[e.tri()] == kRight) right_events[k].push_back(e);
+                if (side_[e.tri()] == kLeft)
+                    left_events[k].push_back(e);
+                else if (side_[e.tri()] == kRight)
+                    right_events[k].push_back(e);
             }
             AxisEvents().swap(events[k]);
         }

@@ -68,8 +68,10 @@ Box clipped_bounds(const Triangle& tri, const Box& cell, double slack) {
         box.upper[k] = std::min(round_up(hi[k]), cell.upper[k]);
         if (box.lower[k] > box.upper[k]) {
             // Only the slack reaches the cell: the triangle touches the cell's face. Keep it on that face.
-            if (box.lower[k] > cell.upper[k]) box.lower[k] = box.upper[k] = cell.upper[k];
-            else box.lower[k] = box.upper[k] = cell.lower[k];
+            if (box.lower[k] > cell.upper[k])
+                box.lower[k] = box.upper[k] = cell.upper[k];
+            else
+                box.lower[k] = box.upper[k] = cell.lower[k];
         }
     }
     return box;

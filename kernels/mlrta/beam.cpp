@@ -12,8 +12,10 @@ namespace {
 bool positive(float v) { return !std::signbit(v); }
 
 void extend(Interval& i, float v, bool first) {
-    if (first) i = {v, v};
-    else i = {std::min(i.lo, v), std::max(i.hi, v)};
+    if (first)
+        i = {v, v};
+    else
+        i = {std::min(i.lo, v), std::max(i.hi, v)};
 }
 
 int dominant_axis(Float3 d) {
@@ -95,7 +97,8 @@ void Beam::add(const Packet16& packet) {
     const Lanes lead_org[3] = {Lanes(org[0][lead]), Lanes(org[1][lead]), Lanes(org[2][lead])};
     for (int base = 0; base < 16; base += kLanes) {
         const LaneMask on = lanes_on((active >> base) & 0xFu);
-        const Lanes tnear = Lanes::load_unaligned(packet.tnear + base), tfar = Lanes::load_unaligned(packet.tfar + base);
+        const Lanes tnear = Lanes::load_unaligned(packet.tnear + base),
+                    tfar = Lanes::load_unaligned(packet.tfar + base);
         LaneMask same = on;
         for (int k = 0; k < 3; ++k) {
             const Lanes v = Lanes::load_unaligned(dir[k] + base), o = Lanes::load_unaligned(org[k] + base);
@@ -137,8 +140,7 @@ void Beam::add(const Packet16& packet) {
     if (b.coherent) {
         for (int k = 0; k < 3; ++k) {
             const Interval inv = {1.0f / dir_range[k].hi, 1.0f / dir_range[k].lo};  // one sign
-            for (int j = 0; j < 3; ++j)
-                b.slope[k][j] = j == k ? Interval{1.0f, 1.0f} : widen(dir_range[j] * inv, 0.0f);
+            for (int j = 0; j < 3; ++j) b.slope[k][j] = j == k ? Interval{1.0f, 1.0f} : widen(dir_range[j] * inv, 0.0f);
         }
     }
     merge(b);

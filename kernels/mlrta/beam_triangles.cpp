@@ -83,7 +83,8 @@ BeamBlock beam_block(const Beam& beam, const OneOriginFrustum& f, const Triangle
     for (const D3& d : corner) {
         const double t = plane / dot(n, d);
         // In front of every start and before every end, with relative room for rounding.
-        if (!(t > 0.0) || !(t * (1.0 - 1e-5) > double(beam.apex_near.hi)) || !(t * (1.0 + 1e-5) < double(beam.apex_far.lo)))
+        if (!(t > 0.0) || !(t * (1.0 - 1e-5) > double(beam.apex_near.hi)) ||
+            !(t * (1.0 + 1e-5) < double(beam.apex_far.lo)))
             return none;
         const D3 p{{o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]}};
         for (int i = 0; i < 3; ++i) {
@@ -93,7 +94,8 @@ BeamBlock beam_block(const Beam& beam, const OneOriginFrustum& f, const Triangle
         out.far = std::max(out.far, t);
         for (int k = 0; k < 3; ++k) {
             const double lo = cell.lower[k], hi = cell.upper[k];
-            const bool in = lo == hi ? std::fabs(p[k] - lo) <= 1e-9 * (std::fabs(lo) + reach) : p[k] >= lo && p[k] <= hi;
+            const bool in =
+                lo == hi ? std::fabs(p[k] - lo) <= 1e-9 * (std::fabs(lo) + reach) : p[k] >= lo && p[k] <= hi;
             out.inside = out.inside && in;
         }
     }

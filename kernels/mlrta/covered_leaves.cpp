@@ -30,8 +30,10 @@ bool overlap_on(const std::array<P2, 3>& a, const std::array<P2, 3>& b, double n
     double amin = INFINITY, amax = -INFINITY, bmin = INFINITY, bmax = -INFINITY;
     for (int i = 0; i < 3; ++i) {
         const double pa = a[i].u * nu + a[i].v * nv, pb = b[i].u * nu + b[i].v * nv;
-        amin = std::min(amin, pa); amax = std::max(amax, pa);
-        bmin = std::min(bmin, pb); bmax = std::max(bmax, pb);
+        amin = std::min(amin, pa);
+        amax = std::max(amax, pa);
+        bmin = std::min(bmin, pb);
+        bmax = std::max(bmax, pb);
     }
     return amax > bmin && bmax > amin;
 }

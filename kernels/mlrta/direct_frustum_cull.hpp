@@ -32,7 +32,7 @@ inline Frustum4 make_frustum(const Beam& beam) {
         a[j] = 1.0f;
         a[m] = -hi * sm;  // u_j - hi * w <= 0
         b[j] = -1.0f;
-        b[m] = lo * sm;   // lo * w - u_j <= 0
+        b[m] = lo * sm;  // lo * w - u_j <= 0
         f.normal[n++] = a;
         f.normal[n++] = b;
     }

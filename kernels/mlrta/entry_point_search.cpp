@@ -23,7 +23,8 @@ public:
     // A blocker known from the parent tile (whose beam holds this one) blocks this beam as well:
     // it bounds the search from the start.
     void inherit(const EntryPoint& start) {
-        if (start.blocked() && triangles_.valid) try_blocker(start.blocker, kd_.scene.triangle(start.blocker), start.box);
+        if (start.blocked() && triangles_.valid)
+            try_blocker(start.blocker, kd_.scene.triangle(start.blocker), start.box);
     }
 
     // Children of an inner node the beam may enter, near child first.
@@ -160,8 +161,7 @@ public:
     // the larger beam, so nothing for this one, and the depth-first order is the same (one sign per
     // axis). Only the trail's bifurcations are decided again for this beam (one step each); where
     // this beam leaves the trail's path, the walk goes on from there as it would have.
-    bool first_candidate(const EntryPoint& start, const SearchTrail* trail, Bifurcation* bif, int& top,
-                         NodeBox& leaf) {
+    bool first_candidate(const EntryPoint& start, const SearchTrail* trail, Bifurcation* bif, int& top, NodeBox& leaf) {
         top = 0;
         if (!trail) return descend(NodeBox{start.node, start.box}, bif, top, leaf);
         for (int i = 0; i < trail->count; ++i) {
@@ -317,8 +317,9 @@ EntryPoint entry_point_search(const Mlrta::Impl& m, const Beam& beam, const Entr
     if (trail && !trail->valid) trail = nullptr;
     Search search(m, beam, steps);
     search.inherit(start);
-    return m.settings.experimental.ep_search == EpSearch::bifurcation_stack ? search.run_bifurcation_stack(start, trail, out)
-                                                               : search.run_top_down(start, trail, out);
+    return m.settings.experimental.ep_search == EpSearch::bifurcation_stack
+               ? search.run_bifurcation_stack(start, trail, out)
+               : search.run_top_down(start, trail, out);
 }
 
 }  // namespace beamtrace::mlrta

@@ -6,7 +6,8 @@ template <bool kOcclusion, bool kCount>
 void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint& ep, PacketHits16* hits,
                   std::uint32_t* occluded, QueryCounters* counters, const SearchTrail* trail) {
     if (ep.misses) {
-        if constexpr (kOcclusion) *occluded = 0;
+        if constexpr (kOcclusion)
+            *occluded = 0;
         else
             for (int i = 0; i < 16; ++i) hits->set_hit(i, Hit{});
         if constexpr (kCount) ++counters->packets;
@@ -32,7 +33,7 @@ EntryPoint root_entry(const Mlrta::Impl& m) {
     return ep;
 }
 
-#define BEAMTRACE_TRACE_FROM_ENTRY(kOcclusion, kCount)                                                         \
+#define BEAMTRACE_TRACE_FROM_ENTRY(kOcclusion, kCount)                                                     \
     template void trace_packet<kOcclusion, kCount>(const Mlrta::Impl&, const Packet16&, const EntryPoint&, \
                                                    PacketHits16*, std::uint32_t*, QueryCounters*, const SearchTrail*);
 BEAMTRACE_TRACE_FROM_ENTRY(false, false)

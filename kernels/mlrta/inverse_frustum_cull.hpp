@@ -28,8 +28,9 @@ inline ChildMask cull_split(const Beam& beam, const Box& cell, int k, float spli
     const int j = rectangle_axis(k, 0), l = rectangle_axis(k, 1);
     const __m128 rect = split_rectangle(beam, k, split);
     const __m128 faces = _mm_setr_ps(cell.upper[j], cell.lower[j], cell.upper[l], cell.lower[l]);
-    const int outside = _mm_movemask_ps(_mm_or_ps(_mm_and_ps(_mm_cmpgt_ps(rect, faces), _mm_castsi128_ps(_mm_setr_epi32(-1, 0, -1, 0))),
-                                                  _mm_and_ps(_mm_cmplt_ps(rect, faces), _mm_castsi128_ps(_mm_setr_epi32(0, -1, 0, -1)))));
+    const int outside = _mm_movemask_ps(
+        _mm_or_ps(_mm_and_ps(_mm_cmpgt_ps(rect, faces), _mm_castsi128_ps(_mm_setr_epi32(-1, 0, -1, 0))),
+                  _mm_and_ps(_mm_cmplt_ps(rect, faces), _mm_castsi128_ps(_mm_setr_epi32(0, -1, 0, -1)))));
     const int axes[2] = {j, l};
     for (int pair = 0; pair < 2; ++pair) {
         const int a = axes[pair];

@@ -78,10 +78,11 @@ void run_tiles(const Mlrta::Impl& m, const PacketGrid& grid, PacketHits16* hits,
     tbb::combinable<QueryCounters> per_thread;
     tbb::task_arena arena(options.threads);
     arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const tbb::blocked_range2d<int>& r) {
-            run(r.cols().begin(), r.cols().end(), r.rows().begin(), r.rows().end(),
-                options.counters ? &per_thread.local() : nullptr);
-        });
+        tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1),
+                          [&](const tbb::blocked_range2d<int>& r) {
+                              run(r.cols().begin(), r.cols().end(), r.rows().begin(), r.rows().end(),
+                                  options.counters ? &per_thread.local() : nullptr);
+                          });
     });
     if (options.counters) per_thread.combine_each([&](const QueryCounters& c) { *options.counters += c; });
 }
@@ -109,8 +110,10 @@ void trace_packets(const Mlrta::Impl& m, std::span<const Packet16> packets, Pack
         for (std::size_t p = b; p < e; ++p) {
             PacketHits16* h = kOcclusion ? nullptr : hits + p;
             std::uint32_t* o = kOcclusion ? bits + p : nullptr;
-            if (c) trace_from_root<kOcclusion, true>(m, root, tolerance, packets[p], h, o, c);
-            else trace_from_root<kOcclusion, false>(m, root, tolerance, packets[p], h, o, nullptr);
+            if (c)
+                trace_from_root<kOcclusion, true>(m, root, tolerance, packets[p], h, o, c);
+            else
+                trace_from_root<kOcclusion, false>(m, root, tolerance, packets[p], h, o, nullptr);
         }
     });
 }
@@ -130,11 +133,15 @@ void trace_rays(const Mlrta::Impl& m, std::span<const Ray> rays, Out* out, const
             packet.active = n == 16 ? 0xFFFFu : (1u << n) - 1u;
             PacketHits16 hits;
             std::uint32_t bits = 0;
-            if (c) trace_from_root<kOcclusion, true>(m, root, tolerance, packet, &hits, &bits, c);
-            else trace_from_root<kOcclusion, false>(m, root, tolerance, packet, &hits, &bits, nullptr);
+            if (c)
+                trace_from_root<kOcclusion, true>(m, root, tolerance, packet, &hits, &bits, c);
+            else
+                trace_from_root<kOcclusion, false>(m, root, tolerance, packet, &hits, &bits, nullptr);
             for (std::size_t i = 0; i < n; ++i) {
-                if constexpr (kOcclusion) out[first + i] = std::uint8_t((bits >> i) & 1u);
-                else out[first + i] = hits.hit(int(i));
+                if constexpr (kOcclusion)
+                    out[first + i] = std::uint8_t((bits >> i) & 1u);
+                else
+                    out[first + i] = hits.hit(int(i));
             }
         }
     });
@@ -166,7 +173,8 @@ void Mlrta::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded
     trace_rays<true>(*impl_, rays, occluded.data(), options);
 }
 
-void Mlrta::intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits, const QueryOptions& options) const {
+void Mlrta::intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits,
+                      const QueryOptions& options) const {
     check_query("Mlrta::intersect", packets.size(), hits.size(), options);
     trace_packets<false>(*impl_, packets, hits.data(), nullptr, options);
 }

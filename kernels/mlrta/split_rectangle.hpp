@@ -37,21 +37,26 @@ inline __m128 split_rectangle(const Beam& beam, int k, float p) {
                                                                         beam.starts.upper[k], beam.starts.lower[k])));
     // offset * slope for both axes: products of either offset bound with the slope bounds
     // [s_lo, s_hi] of j and of l; the interval's ends are the minimum and maximum of each four.
-    const __m128 slope = _mm_setr_ps(beam.slope[k][j].lo, beam.slope[k][j].hi, beam.slope[k][l].lo, beam.slope[k][l].hi);
+    const __m128 slope =
+        _mm_setr_ps(beam.slope[k][j].lo, beam.slope[k][j].hi, beam.slope[k][l].lo, beam.slope[k][l].hi);
     const __m128 a = _mm_mul_ps(_mm_shuffle_ps(offset, offset, _MM_SHUFFLE(0, 0, 0, 0)), slope);
     const __m128 b = _mm_mul_ps(_mm_shuffle_ps(offset, offset, _MM_SHUFFLE(1, 1, 1, 1)), slope);
     // std::min / std::max order: min(x, y) is (y < x) ? y : x, max(x, y) is (x < y) ? y : x
     // (SSE2 selects: the header is also compiled into units without SSE4).
-    auto select = [](__m128 mask, __m128 yes, __m128 no) { return _mm_or_ps(_mm_and_ps(mask, yes), _mm_andnot_ps(mask, no)); };
+    auto select = [](__m128 mask, __m128 yes, __m128 no) {
+        return _mm_or_ps(_mm_and_ps(mask, yes), _mm_andnot_ps(mask, no));
+    };
     auto min4 = [&](__m128 x, __m128 y) { return select(_mm_cmplt_ps(y, x), y, x); };
     auto max4 = [&](__m128 x, __m128 y) { return select(_mm_cmplt_ps(x, y), y, x); };
     // Interval::operator*: min(min(p0, p1), min(p2, p3)) with p0 = lo*lo, p1 = lo*hi, p2 = hi*lo,
     // p3 = hi*hi; here a = (p0, p1) and b = (p2, p3) for each axis.
-    const __m128 a_swap = _mm_shuffle_ps(a, a, _MM_SHUFFLE(2, 3, 0, 1)), b_swap = _mm_shuffle_ps(b, b, _MM_SHUFFLE(2, 3, 0, 1));
+    const __m128 a_swap = _mm_shuffle_ps(a, a, _MM_SHUFFLE(2, 3, 0, 1)),
+                 b_swap = _mm_shuffle_ps(b, b, _MM_SHUFFLE(2, 3, 0, 1));
     const __m128 lo = min4(min4(a, a_swap), min4(b, b_swap));  // valid in lanes 0 and 2
     const __m128 hi = max4(max4(a_swap, a), max4(b_swap, b));  // valid in lanes 1 and 3
     const __m128 along = widen4(select(_mm_castsi128_ps(_mm_setr_epi32(0, -1, 0, -1)), hi, lo));
-    const __m128 starts = _mm_setr_ps(beam.starts.lower[j], beam.starts.upper[j], beam.starts.lower[l], beam.starts.upper[l]);
+    const __m128 starts =
+        _mm_setr_ps(beam.starts.lower[j], beam.starts.upper[j], beam.starts.lower[l], beam.starts.upper[l]);
     return widen4(_mm_add_ps(starts, along));
 }
 

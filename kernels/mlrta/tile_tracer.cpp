@@ -13,7 +13,12 @@ template <bool kOcclusion, bool kCount>
 TileTracer<kOcclusion, kCount>::TileTracer(const Mlrta::Impl& m, const PacketGrid& grid, PacketHits16* hits,
                                            std::uint32_t* occluded, QueryCounters* counters,
                                            const TileObserver* observer, bool reverse)
-    : m_(m), grid_(grid), hits_(hits), occluded_(occluded), counters_(counters), observer_(observer),
+    : m_(m),
+      grid_(grid),
+      hits_(hits),
+      occluded_(occluded),
+      counters_(counters),
+      observer_(observer),
       reverse_(kOcclusion && reverse) {
     tile_side_ = std::max(1, m.settings.initial_tile / 4);
     beams_.resize(std::size_t(tile_side_) * std::size_t(tile_side_));
@@ -58,7 +63,7 @@ void TileTracer<kOcclusion, kCount>::trace_initial_tile(int x0, int y0) {
 
 template <bool kOcclusion, bool kCount>
 void TileTracer<kOcclusion, kCount>::trace_tile(int x0, int y0, int x1, int y1, const EntryPoint& ep,
-                                                  const SearchTrail* trail, bool parent_stuck) {
+                                                const SearchTrail* trail, bool parent_stuck) {
     Beam beam;
     beam.pad = pad_;
     for (int y = y0; y < y1; ++y)
@@ -132,8 +137,8 @@ void TileTracer<kOcclusion, kCount>::occlude_all(int x0, int y0, int x1, int y1)
 }
 
 template <bool kOcclusion, bool kCount>
-void TileTracer<kOcclusion, kCount>::trace_packets(int x0, int y0, int x1, int y1, const EntryPoint& ep,
-                                                     bool divergent, const SearchTrail* trail) {
+void TileTracer<kOcclusion, kCount>::trace_packets(int x0, int y0, int x1, int y1, const EntryPoint& ep, bool divergent,
+                                                   const SearchTrail* trail) {
     if constexpr (kCount) {
         ++counters_->mlrta.tiles;
         if (divergent) ++counters_->mlrta.divergent_tiles;

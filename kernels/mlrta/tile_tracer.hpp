@@ -51,8 +51,8 @@ private:
     bool reverse_ = false;
     double tolerance_ = 0.0;  // of the reversal policy
     int tile_x0_ = 0, tile_y0_ = 0, tile_side_ = 0;
-    float pad_ = 0.0f;  // Beam::pad for the tree's scene (set_scene_scale, computed once)
-    std::vector<Beam> beams_;  // of the packets of the current initial tile
+    float pad_ = 0.0f;                // Beam::pad for the tree's scene (set_scene_scale, computed once)
+    std::vector<Beam> beams_;         // of the packets of the current initial tile
     std::vector<Packet16> reversed_;  // with reverse_: the current initial tile's packets as traced
 };
 

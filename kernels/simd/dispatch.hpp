@@ -23,10 +23,14 @@ template <class Table>
 const Table& select(Isa isa) {
     require_available(isa);
     switch (isa) {
-        case Isa::sse42: return table<Table, Isa::sse42>();
-        case Isa::avx2: return table<Table, Isa::avx2>();
-        case Isa::avx512: return table<Table, Isa::avx512>();
-        case Isa::scalar: break;
+        case Isa::sse42:
+            return table<Table, Isa::sse42>();
+        case Isa::avx2:
+            return table<Table, Isa::avx2>();
+        case Isa::avx512:
+            return table<Table, Isa::avx512>();
+        case Isa::scalar:
+            break;
     }
     return table<Table, Isa::scalar>();
 }
@@ -34,12 +38,12 @@ const Table& select(Isa isa) {
 }  // namespace beamtrace::simd
 
 // Declares the four instances of a kernel table (in the table's header, so that every use sees them).
-#define BEAMTRACE_KERNEL_TABLE(Table)                                                      \
-    template <>                                                                            \
-    const Table& ::beamtrace::simd::table<Table, ::beamtrace::Isa::scalar>();              \
-    template <>                                                                            \
-    const Table& ::beamtrace::simd::table<Table, ::beamtrace::Isa::sse42>();               \
-    template <>                                                                            \
-    const Table& ::beamtrace::simd::table<Table, ::beamtrace::Isa::avx2>();                \
-    template <>                                                                            \
+#define BEAMTRACE_KERNEL_TABLE(Table)                                         \
+    template <>                                                               \
+    const Table& ::beamtrace::simd::table<Table, ::beamtrace::Isa::scalar>(); \
+    template <>                                                               \
+    const Table& ::beamtrace::simd::table<Table, ::beamtrace::Isa::sse42>();  \
+    template <>                                                               \
+    const Table& ::beamtrace::simd::table<Table, ::beamtrace::Isa::avx2>();   \
+    template <>                                                               \
     const Table& ::beamtrace::simd::table<Table, ::beamtrace::Isa::avx512>()

@@ -30,9 +30,12 @@ bool os_saves(unsigned long long bits) {
 bool isa_available(Isa isa) {
     static const xsimd::detail::supported_arch cpu = xsimd::available_architectures();
     switch (isa) {
-        case Isa::scalar: return true;
-        case Isa::sse42: return cpu.sse4_2;
-        case Isa::avx2: return cpu.avx2 && os_saves(0x6);
+        case Isa::scalar:
+            return true;
+        case Isa::sse42:
+            return cpu.sse4_2;
+        case Isa::avx2:
+            return cpu.avx2 && os_saves(0x6);
         case Isa::avx512:
             return cpu.avx512f && cpu.avx512bw && cpu.avx512dq && cpu.avx512cd && cpu.avx2 && os_saves(0xE6);
     }
@@ -41,10 +44,14 @@ bool isa_available(Isa isa) {
 
 const char* isa_name(Isa isa) {
     switch (isa) {
-        case Isa::scalar: return "scalar";
-        case Isa::sse42: return "sse42";
-        case Isa::avx2: return "avx2";
-        case Isa::avx512: return "avx512";
+        case Isa::scalar:
+            return "scalar";
+        case Isa::sse42:
+            return "sse42";
+        case Isa::avx2:
+            return "avx2";
+        case Isa::avx512:
+            return "avx512";
     }
     return "?";
 }
@@ -60,7 +67,8 @@ Isa parse_isa(const std::string& name) {
 }
 
 void simd::require_available(Isa isa) {
-    if (!isa_available(isa)) throw Error(std::string("instruction set ") + isa_name(isa) + " is not available on this CPU");
+    if (!isa_available(isa))
+        throw Error(std::string("instruction set ") + isa_name(isa) + " is not available on this CPU");
 }
 
 Isa best_isa() {

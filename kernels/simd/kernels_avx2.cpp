@@ -43,7 +43,8 @@ std::uint32_t scan_footprints(const std::uint32_t* footprints, std::uint32_t cou
 
 template <>
 const TriangleKernels& simd::table<TriangleKernels, Isa::avx2>() {
-    static const TriangleKernels k{Isa::avx2, table<TriangleKernels, Isa::sse42>().ray_x4, unit::ray_x8, unit::packet_x1};
+    static const TriangleKernels k{Isa::avx2, table<TriangleKernels, Isa::sse42>().ray_x4, unit::ray_x8,
+                                   unit::packet_x1};
     return k;
 }
 
@@ -55,9 +56,9 @@ const kdtree::PacketKernels& simd::table<kdtree::PacketKernels, Isa::avx2>() {
 
 template <>
 const vlf::VlfKernels& simd::table<vlf::VlfKernels, Isa::avx2>() {
-    static constexpr vlf::VlfKernels k{Isa::avx2,         unit::lookup_packet,          unit::scan_footprints,
-                                       vlf::occlude_entries_scalar, nullptr, vlf::batch_candidates_scalar,
-                                       vlf::batch_test_scalar};
+    static constexpr vlf::VlfKernels k{
+        Isa::avx2, unit::lookup_packet,          unit::scan_footprints, vlf::occlude_entries_scalar,
+        nullptr,   vlf::batch_candidates_scalar, vlf::batch_test_scalar};
     return k;
 }
 

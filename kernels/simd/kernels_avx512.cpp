@@ -80,8 +80,9 @@ const kdtree::PacketKernels& simd::table<kdtree::PacketKernels, Isa::avx512>() {
 
 template <>
 const vlf::VlfKernels& simd::table<vlf::VlfKernels, Isa::avx512>() {
-    static constexpr vlf::VlfKernels k{Isa::avx512,    unit::lookup_packet,   unit::scan_footprints, unit::occlude_entries,
-                                       unit::closest_entries, unit::batch_candidates, unit::batch_test};
+    static constexpr vlf::VlfKernels k{Isa::avx512,           unit::lookup_packet,   unit::scan_footprints,
+                                       unit::occlude_entries, unit::closest_entries, unit::batch_candidates,
+                                       unit::batch_test};
     return k;
 }
 

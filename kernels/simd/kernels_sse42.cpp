@@ -58,9 +58,9 @@ const kdtree::PacketKernels& simd::table<kdtree::PacketKernels, Isa::sse42>() {
 
 template <>
 const vlf::VlfKernels& simd::table<vlf::VlfKernels, Isa::sse42>() {
-    static constexpr vlf::VlfKernels k{Isa::sse42,        unit::lookup_packet,          unit::scan_footprints,
-                                       vlf::occlude_entries_scalar, nullptr, vlf::batch_candidates_scalar,
-                                       vlf::batch_test_scalar};
+    static constexpr vlf::VlfKernels k{
+        Isa::sse42, unit::lookup_packet,          unit::scan_footprints, vlf::occlude_entries_scalar,
+        nullptr,    vlf::batch_candidates_scalar, vlf::batch_test_scalar};
     return k;
 }
 

@@ -31,7 +31,8 @@ void VlfOptions::validate() const {
 
 VisibilityField::Impl::~Impl() = default;
 
-VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o) : options(o), directions((o.validate(), o.directions)) {
+VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o)
+    : options(o), directions((o.validate(), o.directions)) {
     bounds = o.bounds ? *o.bounds : scene.bounds();
     const Box& sb = scene.bounds();
     for (int k = 0; k < 3; ++k)
@@ -79,7 +80,9 @@ VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o) : options(o
     t.half_table = d.half_table;
     t.frames = lookup.frames.data();
     t.count = int(l);
-    t.centre[0] = grid.centre.x; t.centre[1] = grid.centre.y; t.centre[2] = grid.centre.z;
+    t.centre[0] = grid.centre.x;
+    t.centre[1] = grid.centre.y;
+    t.centre[2] = grid.centre.z;
     t.radius = grid.radius;
     t.inv_h = grid.inv_h;
     t.h = grid.h;
@@ -122,7 +125,9 @@ VisibilityField::~VisibilityField() = default;
 VisibilityField::VisibilityField(VisibilityField&&) noexcept = default;
 VisibilityField& VisibilityField::operator=(VisibilityField&&) noexcept = default;
 
-Hit VisibilityField::intersect(const Ray& ray, VlfMode mode) const { return trace<false, false>(*impl_, ray, mode, nullptr); }
+Hit VisibilityField::intersect(const Ray& ray, VlfMode mode) const {
+    return trace<false, false>(*impl_, ray, mode, nullptr);
+}
 bool VisibilityField::occluded(const Ray& ray, VlfMode mode) const {
     return trace<true, false>(*impl_, ray, mode, nullptr).hit();
 }

@@ -25,16 +25,16 @@ struct VisibilityField::Impl {
     VlfOptions options;
     DirectionSet directions;
     vlf::TileGrid grid;
-    Box bounds;                // the volume triangles must stay in
-    vlf::WorldBox world_box;   // bounds grown by the padding: rays are cut to it
+    Box bounds;               // the volume triangles must stay in
+    vlf::WorldBox world_box;  // bounds grown by the padding: rays are cut to it
     // Triangles are stored in spatial order (spatial_order.hpp): triangle k of the field is the
     // caller's triangle order[k], and caller's triangle i is the field's rank[i]. PSFs, walks and
     // kernels use the field's indices; the public API the caller's ids.
     std::vector<std::uint32_t> order, rank;
-    std::vector<Triangle> triangles;          // current corners, field order
-    std::vector<Triangle> caller_triangles;   // the same, caller's order (VisibilityField::triangles)
-    std::vector<std::uint8_t> inserted;  // caller's order: in the field (not removed)
-    std::vector<std::uint8_t> present;   // field order: inserted and of non-zero area: what PSFs hold
+    std::vector<Triangle> triangles;         // current corners, field order
+    std::vector<Triangle> caller_triangles;  // the same, caller's order (VisibilityField::triangles)
+    std::vector<std::uint8_t> inserted;      // caller's order: in the field (not removed)
+    std::vector<std::uint8_t> present;       // field order: inserted and of non-zero area: what PSFs hold
     std::vector<vlf::CanonicalFrame> frames;
     const TriangleKernels* kernels = nullptr;
     vlf::LookupStorage lookup;              // what the packet lookup reads
@@ -53,9 +53,7 @@ struct VisibilityField::Impl {
     Impl(const Scene& scene, const VlfOptions& options);
     ~Impl();  // in visibility_field.cpp, where TileRayBins is complete
 
-    vlf::SubfieldInput input() const {
-        return vlf::SubfieldInput{&grid, triangles, present, options.depth};
-    }
+    vlf::SubfieldInput input() const { return vlf::SubfieldInput{&grid, triangles, present, options.depth}; }
     // PSF i, built now if no query has needed it yet (thread-safe).
     const vlf::ParallelSubfield& psf(std::uint32_t i) const {
         if (const vlf::ParallelSubfield* p = ready[i].load(std::memory_order_acquire)) return *p;

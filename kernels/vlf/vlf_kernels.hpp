@@ -1,9 +1,9 @@
 #pragma once
-// The SIMD kernels of VLF-RT, one table per instruction set (simd/dispatch.hpp): the packet lookup (packet_lookup.hpp), the footprint scan (tile_footprint.hpp) and the
-// occlusion by a run of tile entries (entry_occlusion.hpp; AVX-512 only, the reference elsewhere)
-// and the closest hit among a leaf's entries (entry_closest_hit.hpp; AVX-512 only, nullptr
-// elsewhere: the walk's own leaf loop), and the two kernels of batched one-tile occlusion
-// (tile_ray_batch.hpp; AVX-512 only, the references elsewhere).
+// The SIMD kernels of VLF-RT, one table per instruction set (simd/dispatch.hpp): the packet lookup (packet_lookup.hpp),
+// the footprint scan (tile_footprint.hpp) and the occlusion by a run of tile entries (entry_occlusion.hpp; AVX-512
+// only, the reference elsewhere) and the closest hit among a leaf's entries (entry_closest_hit.hpp; AVX-512 only,
+// nullptr elsewhere: the walk's own leaf loop), and the two kernels of batched one-tile occlusion (tile_ray_batch.hpp;
+// AVX-512 only, the references elsewhere).
 #include <cstdint>
 
 #include "simd/dispatch.hpp"

@@ -62,8 +62,9 @@ TEST(Cli, BadOptionsExitTwo) {
 
 TEST(Cli, BenchWritesTheJsonContract) {
     const fs::path json = temp_dir() / "out.json";
-    const CommandResult r = run("bench --scene tetra:3 --mode shadow --engines kd1,embree1,embree16 --width 64 --height 48 --json " +
-                      json.string());
+    const CommandResult r =
+        run("bench --scene tetra:3 --mode shadow --engines kd1,embree1,embree16 --width 64 --height 48 --json " +
+            json.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("mismatch"), std::string::npos);
     std::ifstream in(json);
@@ -80,12 +81,12 @@ TEST(Cli, BenchWritesTheJsonContract) {
 
 TEST(Cli, ComplexityPictureNeedsBeams) {
     const fs::path png = temp_dir() / "complexity.png";
-    const CommandResult ok = run("render --scene tetra:4 --engine mlrta --shade complexity --width 64 --height 64 --out " +
-                                 png.string());
+    const CommandResult ok =
+        run("render --scene tetra:4 --engine mlrta --shade complexity --width 64 --height 64 --out " + png.string());
     ASSERT_EQ(ok.exit_code, 0) << ok.output;
     EXPECT_TRUE(fs::exists(png));
-    const CommandResult bad = run("render --scene tetra:4 --engine kd1 --shade complexity --width 64 --height 64 --out " +
-                                  png.string());
+    const CommandResult bad =
+        run("render --scene tetra:4 --engine kd1 --shade complexity --width 64 --height 64 --out " + png.string());
     EXPECT_EQ(bad.exit_code, 2) << bad.output;
     EXPECT_NE(bad.output.find("mlrta"), std::string::npos) << bad.output;
 }
@@ -95,9 +96,10 @@ TEST(Cli, MlrtaAndKdSettingsAreChecked) {
     EXPECT_EQ(run("bench --scene tetra:1 --engines mlrta --mlrta-frustum sideways").exit_code, 2);
     EXPECT_EQ(run("bench --scene tetra:1 --engines mlrta --mlrta-ep-search random").exit_code, 2);
     EXPECT_EQ(run("bench --scene tetra:1 --engines kd1 --kd-intersection-cost -1").exit_code, 2);
-    const CommandResult r = run("bench --scene tetra:3 --engines kd16,mlrta --width 32 --height 32 --repeats 1 "
-                                "--mlrta-tile 16 --mlrta-split 4 --mlrta-min-tile 8 --mlrta-frustum direct "
-                                "--mlrta-ep-search bifurcation-stack --no-triangle-culling --kd-tiny-cell 0");
+    const CommandResult r =
+        run("bench --scene tetra:3 --engines kd16,mlrta --width 32 --height 32 --repeats 1 "
+            "--mlrta-tile 16 --mlrta-split 4 --mlrta-min-tile 8 --mlrta-frustum direct "
+            "--mlrta-ep-search bifurcation-stack --no-triangle-culling --kd-tiny-cell 0");
     EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
@@ -105,8 +107,9 @@ TEST(Cli, RenderWritesAPng) {
     const fs::path png = temp_dir() / "sub" / "picture.png";
     for (const char* shade : {"normal", "depth", "ao"}) {
         fs::remove(png);
-        const CommandResult r = run(std::string("render --scene sphereflake:1 --engine kd1 --width 40 --height 30 --ao-rays 4 --shade ") +
-                          shade + " --out " + png.string());
+        const CommandResult r =
+            run(std::string("render --scene sphereflake:1 --engine kd1 --width 40 --height 30 --ao-rays 4 --shade ") +
+                shade + " --out " + png.string());
         ASSERT_EQ(r.exit_code, 0) << r.output;
         std::ifstream in(png, std::ios::binary);
         char sig[8] = {};

@@ -58,9 +58,9 @@ TEST(EmbreeDirect, FindsTheSameHitsAsTheBenchOnTheSameRays) {
     const fs::path dir = beamtrace::test::temp_dir("embree_direct_test");
     const fs::path scene = export_off("sphereflake:2", dir);
     const std::string size = " --width " + std::to_string(kWidth) + " --height " + std::to_string(kHeight);
-    const CommandResult direct = run_embree_direct("--scene " + scene.string() + " --camera " + kCamera + size +
-                                                   " --repeats 1 --json " + (dir / "direct.json").string() +
-                                                   " --dump " + (dir / "direct").string());
+    const CommandResult direct =
+        run_embree_direct("--scene " + scene.string() + " --camera " + kCamera + size + " --repeats 1 --json " +
+                          (dir / "direct.json").string() + " --dump " + (dir / "direct").string());
     ASSERT_EQ(direct.exit_code, 0) << direct.output;
     const nlohmann::json dj = nlohmann::json::parse(std::ifstream(dir / "direct.json"));
     const std::vector<std::uint32_t> direct_hits = read_file<std::uint32_t>(dir / "direct.primary");
@@ -98,9 +98,9 @@ TEST(EmbreeDirect, FindsTheSameHitsAsTheBenchOnTheSameRays) {
     // And the bench command itself: every Embree engine counts the same hits and blocked rays.
     for (const char* mode : {"primary", "shadow"}) {
         const fs::path json = dir / (std::string(mode) + ".json");
-        const CommandResult bench = beamtrace::test::run_command("bench --scene " + scene.string() + " --camera " + kCamera +
-                                                                 size + " --mode " + mode + " --engines kd1 --repeats 1 --json " +
-                                                                 json.string());
+        const CommandResult bench =
+            beamtrace::test::run_command("bench --scene " + scene.string() + " --camera " + kCamera + size +
+                                         " --mode " + mode + " --engines kd1 --repeats 1 --json " + json.string());
         ASSERT_EQ(bench.exit_code, 0) << bench.output;
         const nlohmann::json bj = nlohmann::json::parse(std::ifstream(json));
         const std::size_t expected = std::string(mode) == "primary" ? hits : blocked;

@@ -51,14 +51,15 @@ int count_lines(const std::string& s) {
 
 TEST(TradeCli, WritesTheCsvAndThePlot) {
     const fs::path out = beamtrace::test::temp_dir("trade_cli_test") / "primary";
-    const CommandResult r = run("trade --scene random:2000 --width 64 --height 64 --repeats 1 --min-seconds 0 --out " + out.string());
+    const CommandResult r =
+        run("trade --scene random:2000 --width 64 --height 64 --repeats 1 --min-seconds 0 --out " + out.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const std::vector<std::string> lines = read_lines(out / "trade.csv");
     ASSERT_GT(lines.size(), 20u);
     const std::vector<std::string> header = fields(lines[0]);
     for (const char* name : {"engine", "settings", "mrays_per_s", "x_embree16", "build_seconds", "memory_bytes",
-                               "agree", "ties", "grazing", "mismatch", "error_rate", "mean_rel_t_error",
-                               "max_rel_t_error", "ao_occlusion_mae", "pareto", "note", "x_anchor"})
+                             "agree", "ties", "grazing", "mismatch", "error_rate", "mean_rel_t_error",
+                             "max_rel_t_error", "ao_occlusion_mae", "pareto", "note", "x_anchor"})
         column(header, name);
     int vlf_fast = 0, pareto = 0, anchors = 0;
     double fastest_reference = 0.0;
@@ -105,8 +106,10 @@ TEST(TradeCli, WritesTheCsvAndThePlot) {
 
 TEST(TradeCli, AoRowsCarryTheOcclusionError) {
     const fs::path out = beamtrace::test::temp_dir("trade_cli_test") / "ao";
-    const CommandResult r = run("trade --scene tetra:3 --mode ao --ao-rays 4 --width 32 --height 32 --repeats 1 --min-seconds 0 "
-                                "--engines embree1,kd1,vlf-fast --out " + out.string());
+    const CommandResult r =
+        run("trade --scene tetra:3 --mode ao --ao-rays 4 --width 32 --height 32 --repeats 1 --min-seconds 0 "
+            "--engines embree1,kd1,vlf-fast --out " +
+            out.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const std::vector<std::string> lines = read_lines(out / "trade.csv");
     // header, the three Embree engines (two added for the anchor), kd1 variants, vlf-fast grid
@@ -124,8 +127,8 @@ TEST(TradeCli, AoRowsCarryTheOcclusionError) {
 TEST(TradeCli, BadInputIsOneLineAndExitTwo) {
     const fs::path dir = beamtrace::test::temp_dir("trade_cli_test");
     for (const std::string& args : {"trade --scene tetra:1 --mode sideways --out " + (dir / "x").string(),
-                                   "trade --scene tetra:1 --engines nosuch --out " + (dir / "x").string(),
-                                   "trade --scene nosuch:3 --out " + (dir / "x").string()}) {
+                                    "trade --scene tetra:1 --engines nosuch --out " + (dir / "x").string(),
+                                    "trade --scene nosuch:3 --out " + (dir / "x").string()}) {
         const CommandResult r = run(args);
         EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
         EXPECT_EQ(count_lines(r.output), 1) << args << ": " << r.output;

@@ -11,14 +11,16 @@
 using namespace beamtrace;
 
 TEST(RayValidity, PacketLanesAgreeWithSingleRays) {
-    const float odd[] = {0.0f, -0.0f, 1.0f, -2.5f, 1e-40f, FLT_MAX, -FLT_MAX, kInfinity, -kInfinity, NAN, 3e38f, 1e-30f};
+    const float odd[] = {0.0f,     -0.0f,     1.0f,       -2.5f, 1e-40f, FLT_MAX,
+                         -FLT_MAX, kInfinity, -kInfinity, NAN,   3e38f,  1e-30f};
     std::mt19937 rng(5);
     std::uniform_int_distribution<int> pick(0, int(std::size(odd)) - 1), coin(0, 3);
     int valid = 0, invalid = 0;
     for (int iter = 0; iter < 20000; ++iter) {
         Packet16 p;
         for (int i = 0; i < 16; ++i) {
-            float* fields[8] = {&p.org_x[i], &p.org_y[i], &p.org_z[i], &p.dir_x[i], &p.dir_y[i], &p.dir_z[i], &p.tnear[i], &p.tfar[i]};
+            float* fields[8] = {&p.org_x[i], &p.org_y[i], &p.org_z[i], &p.dir_x[i],
+                                &p.dir_y[i], &p.dir_z[i], &p.tnear[i], &p.tfar[i]};
             for (float* f : fields) *f = coin(rng) ? float(int(rng() % 200) - 100) * 0.1f : odd[pick(rng)];
         }
         p.active = std::uint32_t(rng() & 0xFFFFu);

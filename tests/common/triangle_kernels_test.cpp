@@ -31,7 +31,7 @@ public:
 
     Triangle triangle() {
         Triangle t{point(2), point(2), point(2)};
-        if (pick(20) == 0) t.v2 = t.v1;                       // degenerate
+        if (pick(20) == 0) t.v2 = t.v1;                      // degenerate
         if (pick(20) == 0) t.v2 = t.v0 + (t.v1 - t.v0) * 2;  // collinear
         return t;
     }
@@ -41,11 +41,21 @@ public:
         Float3 target;
         const float a = uniform(0, 1), b = uniform(0, 1);
         switch (pick(5)) {
-            case 0: target = pick(3) == 0 ? tri.v0 : (pick(2) == 0 ? tri.v1 : tri.v2); break;
-            case 1: target = tri.v0 + (tri.v1 - tri.v0) * a; break;
-            case 2: target = tri.v1 + (tri.v2 - tri.v1) * 0.5f; break;
-            case 3: target = tri.v0 + (tri.v1 - tri.v0) * (a * 0.5f) + (tri.v2 - tri.v0) * (b * 0.5f); break;
-            default: target = point(2); break;
+            case 0:
+                target = pick(3) == 0 ? tri.v0 : (pick(2) == 0 ? tri.v1 : tri.v2);
+                break;
+            case 1:
+                target = tri.v0 + (tri.v1 - tri.v0) * a;
+                break;
+            case 2:
+                target = tri.v1 + (tri.v2 - tri.v1) * 0.5f;
+                break;
+            case 3:
+                target = tri.v0 + (tri.v1 - tri.v0) * (a * 0.5f) + (tri.v2 - tri.v0) * (b * 0.5f);
+                break;
+            default:
+                target = point(2);
+                break;
         }
         Ray r;
         r.org = point(4);
@@ -65,7 +75,8 @@ private:
 
 bool same_bits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
 
-void expect_lane_equals_reference(const LaneHits& out, int lane, bool ref_hit, const TriangleHit& ref, const char* what) {
+void expect_lane_equals_reference(const LaneHits& out, int lane, bool ref_hit, const TriangleHit& ref,
+                                  const char* what) {
     const bool hit = (out.mask >> lane) & 1u;
     ASSERT_EQ(hit, ref_hit) << what << " lane " << lane;
     if (hit) {
@@ -119,7 +130,8 @@ TEST_P(TriangleKernelsTest, OneRayManyTrianglesEqualsReference) {
 
 // Runs one packet against one triangle and compares every lane with the reference; returns the
 // number of hits and adds the active lanes to cases.
-static std::uint64_t check_packet(const TriangleKernels& k, const Packet16& p, const Triangle& tri, std::uint64_t& cases) {
+static std::uint64_t check_packet(const TriangleKernels& k, const Packet16& p, const Triangle& tri,
+                                  std::uint64_t& cases) {
     const WatertightPacket16 w = make_watertight_packet(p);
     LaneHits out;
     k.packet_x1(w, tri, out);
@@ -170,8 +182,8 @@ TEST_P(TriangleKernelsTest, CoherentPacketEqualsReference) {
                 for (int c = 0; c < 3; ++c)
                     if (r.org[c] == 0.0f && gen.pick(2) == 0) r.org[c] = -0.0f;
                 if (i > 0) r.org = p.ray(0).org;
-                r.dir = lead.dir + Float3{gen.uniform(-0.05f, 0.05f), gen.uniform(-0.05f, 0.05f),
-                                          gen.uniform(-0.05f, 0.05f)};
+                r.dir = lead.dir +
+                        Float3{gen.uniform(-0.05f, 0.05f), gen.uniform(-0.05f, 0.05f), gen.uniform(-0.05f, 0.05f)};
             } else {
                 // Nearby origins, nearly the same direction: the same dominant axis.
                 r.org = lead.org + Float3{gen.uniform(-0.1f, 0.1f), gen.uniform(-0.1f, 0.1f), gen.uniform(-0.1f, 0.1f)};

@@ -19,8 +19,8 @@ TEST(TriangleReference, HitsWithEmbreeBarycentrics) {
     TriangleHit h{};
     ASSERT_TRUE(shoot({0.25f, 0.5f, 2}, {0, 0, -1}, h));
     EXPECT_FLOAT_EQ(h.t, 2.0f);
-    EXPECT_FLOAT_EQ(h.u, 0.25f);  // weight of v1 = x
-    EXPECT_FLOAT_EQ(h.v, 0.5f);   // weight of v2 = y
+    EXPECT_FLOAT_EQ(h.u, 0.25f);                          // weight of v1 = x
+    EXPECT_FLOAT_EQ(h.v, 0.5f);                           // weight of v2 = y
     ASSERT_TRUE(shoot({0.25f, 0.5f, -3}, {0, 0, 2}, h));  // from behind, unnormalised direction
     EXPECT_FLOAT_EQ(h.t, 1.5f);
 }

@@ -26,7 +26,8 @@ TEST(WatertightPacket, SseSetUpEqualsTheReferenceBitForBit) {
     for (int iter = 0; iter < 20000; ++iter) {
         Packet16 p;
         for (int i = 0; i < 16; ++i) {
-            float* f[8] = {&p.org_x[i], &p.org_y[i], &p.org_z[i], &p.dir_x[i], &p.dir_y[i], &p.dir_z[i], &p.tnear[i], &p.tfar[i]};
+            float* f[8] = {&p.org_x[i], &p.org_y[i], &p.org_z[i], &p.dir_x[i],
+                           &p.dir_y[i], &p.dir_z[i], &p.tnear[i], &p.tfar[i]};
             for (float* v : f) *v = rng() % 5 ? u(rng) : odd[rng() % std::size(odd)];
             if (rng() % 7 == 0) p.dir_y[i] = p.dir_x[i];  // ties
             if (rng() % 7 == 0) p.dir_z[i] = -p.dir_x[i];

@@ -100,7 +100,8 @@ void check(const std::string& name, const Accelerator& a, const std::vector<bt::
     a.occluded(packets, bits, two);
     for (std::size_t i = 0; i < rays.size(); ++i) {
         expect_hit(name + " intersect(span<Packet16>)", i, packet_hits[i / 16].hit(int(i % 16)), want[i]);
-        if (((bits[i / 16] >> (i % 16)) & 1u) != want_occluded[i]) fail(name + " occluded(span<Packet16>) ray " + std::to_string(i));
+        if (((bits[i / 16] >> (i % 16)) & 1u) != want_occluded[i])
+            fail(name + " occluded(span<Packet16>) ray " + std::to_string(i));
     }
     if (bits.back() >> (rays.size() % 16 == 0 ? 16 : rays.size() % 16)) fail(name + ": an inactive lane is occluded");
     // Spans of different sizes and threads < 1 are refused, naming the problem.
@@ -113,8 +114,7 @@ void check(const std::string& name, const Accelerator& a, const std::vector<bt::
     try {
         a.occluded(packets, bits, bt::QueryOptions{0, nullptr});
         fail(name + ": threads = 0 was accepted");
-    } catch (const bt::Error&) {
-    }
+    } catch (const bt::Error&) {}
     // Counters count.
     bt::QueryCounters counters;
     a.intersect(std::span<const bt::Packet16>(packets.data(), 64), std::span<bt::PacketHits16>(packet_hits.data(), 64),
@@ -139,12 +139,14 @@ int main() {
     for (std::size_t i = 0; i < rays.size(); ++i) {
         want[i] = tree.intersect(rays[i]);
         want_occluded[i] = tree.occluded(rays[i]) ? 1 : 0;
-        if (want_occluded[i] != (want[i].hit() ? 1 : 0)) fail("KdTree::occluded and intersect disagree on ray " + std::to_string(i));
+        if (want_occluded[i] != (want[i].hit() ? 1 : 0))
+            fail("KdTree::occluded and intersect disagree on ray " + std::to_string(i));
         hit += want[i].hit();
         blocked += want_occluded[i];
     }
     std::printf("%zu rays: %zu hit, %zu occluded\n", rays.size(), hit, blocked);
-    if (hit < rays.size() / 10 || hit > rays.size() * 9 / 10) fail("the rays do not test much (too few or too many hits)");
+    if (hit < rays.size() / 10 || hit > rays.size() * 9 / 10)
+        fail("the rays do not test much (too few or too many hits)");
 
     check("KdTree", tree, rays, want, want_occluded);
     check("Mlrta", bt::Mlrta(tree), rays, want, want_occluded);

@@ -225,8 +225,9 @@ TEST(Extremes, AxisDirectionsNearlyParallel) {
 TEST(Extremes, AxisDirectionsOrthographicImages) {
     for (const scenes::SceneSource& s : axis_scenes()) {
         const auto engines = build_engines(s.scene, fields());
-        for (float slope : {0.0f, 1e-7f, 1e-4f}) check(s, engines, "orthographic slope " + std::to_string(slope),
-                                                        orthographic(s.scene.bounds(), 48, slope), 48);
+        for (float slope : {0.0f, 1e-7f, 1e-4f})
+            check(s, engines, "orthographic slope " + std::to_string(slope), orthographic(s.scene.bounds(), 48, slope),
+                  48);
     }
 }
 

@@ -91,9 +91,15 @@ Scene slivers(unsigned seed) {
         const Float3 mid = (a + b) * 0.5f;
         const float lift = std::pow(10.0f, -3.0f - 4.0f * u(rng));  // 1e-3 .. 1e-7 off the line
         switch (i % 3) {
-            case 0: s.add(a, b, mid + Float3{lift, -lift, lift}); break;         // sliver (almost collinear)
-            case 1: s.add(a, a + Float3{lift, 0, 0}, b); break;                  // needle (one tiny edge)
-            default: s.add(a, b, a + (b - a) * 0.25f + Float3{0, lift, 0}); break;  // flat wedge
+            case 0:
+                s.add(a, b, mid + Float3{lift, -lift, lift});
+                break;  // sliver (almost collinear)
+            case 1:
+                s.add(a, a + Float3{lift, 0, 0}, b);
+                break;  // needle (one tiny edge)
+            default:
+                s.add(a, b, a + (b - a) * 0.25f + Float3{0, lift, 0});
+                break;  // flat wedge
         }
     }
     return s.scene();
@@ -176,7 +182,8 @@ TEST(Robust, DegenerateSceneSingleFlatPlane) {
         if (mode == Mode::shadow)
             for (Ray& s : r) s.tfar = 2.0f;
         expect_exact_engines_clean(check_engines(engines, workload_for(plane, ray_set(r, mode)),
-                                                 "single plane, grazing " + std::string(workload::to_string(mode)), true));
+                                                 "single plane, grazing " + std::string(workload::to_string(mode)),
+                                                 true));
     }
 }
 
@@ -202,7 +209,8 @@ TEST(Robust, DegenerateSceneCoordinatesNearFloatMax) {
         const auto engines = build_engines(scene, fields());
         std::vector<Ray> rays;
         for (float x : {-0.5f, 0.0f, 0.25f})
-            for (float y : {-0.5f, 0.0f, 0.5f}) rays.push_back(Ray{{x * big, y * big, -big}, 0.0f, {0, 0, 1}, kInfinity});
+            for (float y : {-0.5f, 0.0f, 0.5f})
+                rays.push_back(Ray{{x * big, y * big, -big}, 0.0f, {0, 0, 1}, kInfinity});
         const workload::RaySet set = ray_set(rays, Mode::primary);
         for (const EngineUnderTest& e : engines) {
             std::vector<Hit> hits;

@@ -93,15 +93,18 @@ bool occlusion_ends_explain(const Scene& scene, const Ray& ray) {
 void Comparison::record_hit(const Scene& scene, std::uint64_t index, const Ray& ray, const Hit& ours,
                             const Hit& reference) {
     const oracle::Verdict v = oracle::classify_hit(scene, ray, ours, reference);
-    if (v == oracle::Verdict::mismatch && hit_ends_explain(scene, ray, ours, reference)) ++at_end;
-    else tally.add(v, index, ray, ours, reference);
+    if (v == oracle::Verdict::mismatch && hit_ends_explain(scene, ray, ours, reference))
+        ++at_end;
+    else
+        tally.add(v, index, ray, ours, reference);
 }
 
-void Comparison::record_occlusion(const Scene& scene, std::uint64_t index, const Ray& ray, bool ours,
-                                  bool reference) {
+void Comparison::record_occlusion(const Scene& scene, std::uint64_t index, const Ray& ray, bool ours, bool reference) {
     const oracle::Verdict v = oracle::classify_occlusion(scene, ray, ours, reference);
-    if (v == oracle::Verdict::mismatch && occlusion_ends_explain(scene, ray)) ++at_end;
-    else tally.add(v, index, ray, ours, reference);
+    if (v == oracle::Verdict::mismatch && occlusion_ends_explain(scene, ray))
+        ++at_end;
+    else
+        tally.add(v, index, ray, ours, reference);
 }
 
 std::string Comparison::summary() const {
@@ -208,7 +211,8 @@ CaseReport check_engines(const std::vector<EngineUnderTest>& engines, const work
                 if (!rays.active(slot)) continue;
                 const Ray r = rays.ray(slot);
                 er.oracle.record_occlusion(scene, slot, r, occluded[slot] != 0, w.reference_occluded[slot] != 0);
-                if (geometry) er.geometry.record_occlusion(scene, slot, r, occluded[slot] != 0, exact_occlusion[slot] != 0);
+                if (geometry)
+                    er.geometry.record_occlusion(scene, slot, r, occluded[slot] != 0, exact_occlusion[slot] != 0);
             }
         }
         report.engines.push_back(std::move(er));

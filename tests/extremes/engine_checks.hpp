@@ -22,7 +22,7 @@ struct EngineUnderTest {
 };
 
 struct EngineChoice {
-    bool brute = true;      // only where the scene is small enough (the engine refuses > 100k triangles)
+    bool brute = true;  // only where the scene is small enough (the engine refuses > 100k triangles)
     bool vlf_fast = true;
     workload::EngineOptions options;
 };

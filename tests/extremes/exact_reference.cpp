@@ -56,7 +56,9 @@ bool well_formed(const Ray& ray) {
 }
 
 Hit exact_intersect(const Scene& scene, const Ray& ray) { return trace<false>(scene, ray); }
-Hit exact_intersect(const Scene& scene, const Ray& ray, double tolerance) { return trace<false>(scene, ray, tolerance); }
+Hit exact_intersect(const Scene& scene, const Ray& ray, double tolerance) {
+    return trace<false>(scene, ray, tolerance);
+}
 bool exact_occluded(const Scene& scene, const Ray& ray) { return trace<true>(scene, ray).hit(); }
 
 }  // namespace beamtrace::test

@@ -32,9 +32,14 @@ EngineChoice fields(const Scene& scene) {
 std::vector<Ray> poison(const Box& b) {
     const Float3 o = b.center();
     const float inf = kInfinity;
-    return {{{kNaN, o.y, o.z}, 0.0f, {0, 0, 1}, inf}, {o, 0.0f, {kNaN, 1, 1}, inf},  {o, kNaN, {1, 0, 0}, inf},
-            {o, 0.0f, {1, 1, 1}, kNaN},               {{inf, o.y, o.z}, 0.0f, {-1, 0, 0}, inf},
-            {o, 0.0f, {-inf, 1, 1}, inf},             {o, 0.0f, {0, 0, 0}, inf},   {o, 2.0f, {0, 1, 0}, 1.0f},
+    return {{{kNaN, o.y, o.z}, 0.0f, {0, 0, 1}, inf},
+            {o, 0.0f, {kNaN, 1, 1}, inf},
+            {o, kNaN, {1, 0, 0}, inf},
+            {o, 0.0f, {1, 1, 1}, kNaN},
+            {{inf, o.y, o.z}, 0.0f, {-1, 0, 0}, inf},
+            {o, 0.0f, {-inf, 1, 1}, inf},
+            {o, 0.0f, {0, 0, 0}, inf},
+            {o, 2.0f, {0, 1, 0}, 1.0f},
             {o, -inf, {0, 1, 0}, inf}};
 }
 
@@ -46,8 +51,10 @@ struct Answers {
 
 Answers answer(const EngineUnderTest& e, const RaySet& set) {
     Answers a;
-    if (set.mode == Mode::primary) e.engine->intersect(set, a.hits, 1);
-    else e.engine->occluded(set, a.occluded, 1);
+    if (set.mode == Mode::primary)
+        e.engine->intersect(set, a.hits, 1);
+    else
+        e.engine->occluded(set, a.occluded, 1);
     return a;
 }
 
@@ -161,7 +168,8 @@ TEST(Robust, PacketNoActiveRay) {
             for (std::size_t p = 0; p < set.packets.size(); ++p) {
                 set.packets[p].active = 0;
                 if (p % 2)  // half of them full of garbage
-                    for (int lane = 0; lane < 16; ++lane) set.packets[p].set_ray(lane, bad[std::size_t(lane) % bad.size()]);
+                    for (int lane = 0; lane < 16; ++lane)
+                        set.packets[p].set_ray(lane, bad[std::size_t(lane) % bad.size()]);
             }
             for (const EngineUnderTest& e : engines) {
                 const Answers a = answer(e, set);

@@ -29,9 +29,8 @@ scenes::SceneSource placed(const scenes::SceneSource& source, const Placement& p
     for (const Float3& v : source.scene.vertices()) vertices.push_back(placement.point(v));
     const auto indices = source.scene.indices();
     char name[160];
-    std::snprintf(name, sizeof name, "%s x%g +(%g,%g,%g)%s", source.name.c_str(), placement.scale,
-                  placement.offset[0], placement.offset[1], placement.offset[2],
-                  placement.unit_directions ? " unit directions" : "");
+    std::snprintf(name, sizeof name, "%s x%g +(%g,%g,%g)%s", source.name.c_str(), placement.scale, placement.offset[0],
+                  placement.offset[1], placement.offset[2], placement.unit_directions ? " unit directions" : "");
     Scene scene(std::span<const Float3>(vertices), indices);
     scenes::Camera camera = source.camera;
     camera.eye = placement.point(camera.eye);

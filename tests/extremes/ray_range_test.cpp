@@ -166,16 +166,26 @@ std::vector<Ray> ill_formed(const Box& b) {
     const Float3 dir{0.3f, -0.5f, 0.8f};
     const float inf = kInfinity;
     std::vector<Ray> rays = {
-        {{kNaN, org.y, org.z}, 0.0f, dir, inf},     {{org.x, kNaN, org.z}, 0.0f, dir, inf},
-        {org, 0.0f, {kNaN, dir.y, dir.z}, inf},     {org, 0.0f, {dir.x, dir.y, kNaN}, inf},
-        {org, 0.0f, {kNaN, kNaN, kNaN}, inf},       {{kNaN, kNaN, kNaN}, 0.0f, dir, inf},
-        {org, kNaN, dir, inf},                      {org, 0.0f, dir, kNaN},
-        {org, kNaN, dir, kNaN},                     {{inf, org.y, org.z}, 0.0f, dir, inf},
-        {{org.x, -inf, org.z}, 0.0f, dir, inf},     {org, 0.0f, {inf, dir.y, dir.z}, inf},
-        {org, 0.0f, {dir.x, -inf, dir.z}, inf},     {org, 0.0f, {inf, inf, inf}, inf},
-        {org, 0.0f, {0.0f, 0.0f, 0.0f}, inf},       {org, 0.0f, {-0.0f, 0.0f, -0.0f}, inf},
-        {org, inf, dir, inf},                       {org, 0.0f, dir, -inf},
-        {org, -inf, dir, inf},                      {org, -inf, dir, -inf},
+        {{kNaN, org.y, org.z}, 0.0f, dir, inf},
+        {{org.x, kNaN, org.z}, 0.0f, dir, inf},
+        {org, 0.0f, {kNaN, dir.y, dir.z}, inf},
+        {org, 0.0f, {dir.x, dir.y, kNaN}, inf},
+        {org, 0.0f, {kNaN, kNaN, kNaN}, inf},
+        {{kNaN, kNaN, kNaN}, 0.0f, dir, inf},
+        {org, kNaN, dir, inf},
+        {org, 0.0f, dir, kNaN},
+        {org, kNaN, dir, kNaN},
+        {{inf, org.y, org.z}, 0.0f, dir, inf},
+        {{org.x, -inf, org.z}, 0.0f, dir, inf},
+        {org, 0.0f, {inf, dir.y, dir.z}, inf},
+        {org, 0.0f, {dir.x, -inf, dir.z}, inf},
+        {org, 0.0f, {inf, inf, inf}, inf},
+        {org, 0.0f, {0.0f, 0.0f, 0.0f}, inf},
+        {org, 0.0f, {-0.0f, 0.0f, -0.0f}, inf},
+        {org, inf, dir, inf},
+        {org, 0.0f, dir, -inf},
+        {org, -inf, dir, inf},
+        {org, -inf, dir, -inf},
         {{inf, inf, inf}, -inf, {-inf, kNaN, 0.0f}, kNaN},
     };
     // From outside the box too, aimed at it (a NaN must not slip through a box test).
@@ -208,14 +218,14 @@ TEST(Robust, RayRangeIllFormedRaysReportNothing) {
                 for (std::size_t slot = 0; slot < set.slots(); ++slot) {
                     if (!set.active(slot)) continue;
                     const Ray r = set.ray(slot);
-                    EXPECT_FALSE(hits[slot].hit()) << s.name << " " << e.name << ": ray " << slot << " org " << r.org.x
-                                                   << "," << r.org.y << "," << r.org.z << " dir " << r.dir.x << ","
-                                                   << r.dir.y << "," << r.dir.z << " [" << r.tnear << "," << r.tfar
-                                                   << "] hit triangle " << hits[slot].triangle;
-                    EXPECT_FALSE(occluded[slot]) << s.name << " " << e.name << ": ray " << slot << " org " << r.org.x
-                                                 << "," << r.org.y << "," << r.org.z << " dir " << r.dir.x << ","
-                                                 << r.dir.y << "," << r.dir.z << " [" << r.tnear << "," << r.tfar
-                                                 << "] occluded";
+                    EXPECT_FALSE(hits[slot].hit())
+                        << s.name << " " << e.name << ": ray " << slot << " org " << r.org.x << "," << r.org.y << ","
+                        << r.org.z << " dir " << r.dir.x << "," << r.dir.y << "," << r.dir.z << " [" << r.tnear << ","
+                        << r.tfar << "] hit triangle " << hits[slot].triangle;
+                    EXPECT_FALSE(occluded[slot])
+                        << s.name << " " << e.name << ": ray " << slot << " org " << r.org.x << "," << r.org.y << ","
+                        << r.org.z << " dir " << r.dir.x << "," << r.dir.y << "," << r.dir.z << " [" << r.tnear << ","
+                        << r.tfar << "] occluded";
                 }
                 const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
                 EXPECT_LT(seconds, 1.0) << s.name << " " << e.name << ": ill-formed rays are slow";

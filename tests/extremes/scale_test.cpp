@@ -114,15 +114,19 @@ FloatLimitRecord check_float_limit(const Placement& placement) {
             for (std::size_t slot = 0; slot < rays.slots(); ++slot) {
                 if (!rays.active(slot)) continue;
                 ++record.rays;
-                if (closest) exact[slot] = exact_intersect(scene, rays.ray(slot));
-                else exact_blocked[slot] = exact_occluded(scene, rays.ray(slot));
+                if (closest)
+                    exact[slot] = exact_intersect(scene, rays.ray(slot));
+                else
+                    exact_blocked[slot] = exact_occluded(scene, rays.ray(slot));
                 record.hits += closest ? exact[slot].hit() : exact_blocked[slot];
             }
             for (const EngineUnderTest& e : engines) {
                 std::vector<Hit> hits;
                 std::vector<std::uint8_t> occluded;
-                if (closest) e.engine->intersect(rays, hits, 1);
-                else e.engine->occluded(rays, occluded, 1);
+                if (closest)
+                    e.engine->intersect(rays, hits, 1);
+                else
+                    e.engine->occluded(rays, occluded, 1);
                 for (std::size_t slot = 0; slot < rays.slots(); ++slot) {
                     if (!rays.active(slot)) continue;
                     if (!closest) {

@@ -26,8 +26,8 @@ using workload::Mode;
 constexpr float kLate = 1e-4f;  // t beyond 1 + kLate (a 1e-4 of the eye's distance) is a leak
 
 struct Target {
-    Float3 point;                       // a vertex, or the midpoint of an edge (rounded to float)
-    std::vector<std::uint32_t> faces;   // the triangles around it
+    Float3 point;                      // a vertex, or the midpoint of an edge (rounded to float)
+    std::vector<std::uint32_t> faces;  // the triangles around it
 };
 
 struct D3 {
@@ -88,7 +88,8 @@ std::vector<Float3> eyes(const Box& b, unsigned seed) {
             d[k] = s;
             dirs.push_back(d);
         }
-    for (int i = 0; i < 8; ++i) dirs.push_back(Float3{(i & 1) ? 1.0f : -1.0f, (i & 2) ? 1.0f : -1.0f, (i & 4) ? 1.0f : -1.0f});
+    for (int i = 0; i < 8; ++i)
+        dirs.push_back(Float3{(i & 1) ? 1.0f : -1.0f, (i & 2) ? 1.0f : -1.0f, (i & 4) ? 1.0f : -1.0f});
     std::mt19937 rng(seed);
     std::normal_distribution<float> g;
     for (int i = 0; i < 6; ++i) dirs.push_back(Float3{g(rng), g(rng), g(rng)});
@@ -160,7 +161,7 @@ void expect_watertight(const scenes::SceneSource& source, std::size_t per_kind) 
     ASSERT_GT(targets.size(), 0u) << source.name << " has no closed vertex or edge";
     EngineChoice choice;
     choice.brute = scene.triangle_count() <= 1100;  // every triangle for every ray: kept to tetra:4
-    choice.vlf_fast = false;  // approximate by design: it misses hits wherever a ray leaves its first tile
+    choice.vlf_fast = false;             // approximate by design: it misses hits wherever a ray leaves its first tile
     choice.options.vlf.directions = 33;  // few subfields to build: the rays of one eye share a handful
     choice.options.vlf.tiles = 64;
     const std::vector<EngineUnderTest> engines = build_engines(scene, choice);

@@ -119,9 +119,9 @@ TEST(KdTree, StatisticsAreConsistent) {
 
 TEST(KdTree, DegenerateTrianglesAreCountedAndNeverHit) {
     test::Soup soup;
-    soup.add({0, 0, 1}, {1, 0, 1}, {2, 0, 1});        // collinear
-    soup.add({0, 0, 1}, {0, 0, 1}, {0, 1, 1});        // repeated corner
-    soup.add({0, 0, 2}, {1, 0, 2}, {0, 1, 2});        // a real one behind
+    soup.add({0, 0, 1}, {1, 0, 1}, {2, 0, 1});  // collinear
+    soup.add({0, 0, 1}, {0, 0, 1}, {0, 1, 1});  // repeated corner
+    soup.add({0, 0, 2}, {1, 0, 2}, {0, 1, 2});  // a real one behind
     const KdTree tree = KdTree::build(soup.scene());
     EXPECT_EQ(tree.stats().degenerate_triangles, 2u);
     const Hit h = tree.intersect(Ray{{0.0f, 0.0f, 0.0f}, 0.0f, {0, 0, 1}, kInfinity});

@@ -30,7 +30,8 @@ Scene random_soup(int n, unsigned seed, float size) {
     Soup s;
     for (int i = 0; i < n; ++i) {
         const Float3 c{u(rng), u(rng), u(rng)};
-        s.add(c + Float3{d(rng), d(rng), d(rng)}, c + Float3{d(rng), d(rng), d(rng)}, c + Float3{d(rng), d(rng), d(rng)});
+        s.add(c + Float3{d(rng), d(rng), d(rng)}, c + Float3{d(rng), d(rng), d(rng)},
+              c + Float3{d(rng), d(rng), d(rng)});
     }
     return s.scene();
 }

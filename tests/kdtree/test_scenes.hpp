@@ -21,8 +21,8 @@ struct Soup {
 };
 
 Scene random_soup(int n, unsigned seed, float size = 0.1f);
-Scene stacked_boxes(int n, unsigned seed);     // axis-aligned boxes on a floor, inside a closed room
-Scene single_plane(int n);                     // an n x n grid of quads in z = 0.5
+Scene stacked_boxes(int n, unsigned seed);  // axis-aligned boxes on a floor, inside a closed room
+Scene single_plane(int n);                  // an n x n grid of quads in z = 0.5
 std::vector<Ray> random_rays(const Box& box, int n, unsigned seed);  // origins in and around the box
 // Rays whose direction has exact zero (and -0) components, with origins snapped to coordinates
 // that appear in the scene (so they run inside split planes).

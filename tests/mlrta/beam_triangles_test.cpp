@@ -30,7 +30,8 @@ Triangle across(Rng& rng, Float3 org, Float3 dir, float at, float size, float of
     const Float3 c = org + dir * at;
     const Float3 shift{uniform(rng, -offset, offset), uniform(rng, -offset, offset), uniform(rng, -offset, offset)};
     Float3 p[3];
-    for (Float3& q : p) q = c + shift + Float3{uniform(rng, -size, size), uniform(rng, -size, size), uniform(rng, -size, size)};
+    for (Float3& q : p)
+        q = c + shift + Float3{uniform(rng, -size, size), uniform(rng, -size, size), uniform(rng, -size, size)};
     return Triangle{p[0], p[1], p[2]};
 }
 

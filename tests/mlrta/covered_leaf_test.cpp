@@ -50,7 +50,13 @@ std::shared_ptr<const Mlrta::Impl> flat_leaf_tree(Face face, EpSearch order) {
     };
     const std::vector<std::uint32_t> behind = quad(0.05f, 0.95f), beside = quad(1.05f, 1.95f);
     // Written bottom up, as in the map above.
-    const auto node2 = [&] { h.inner(2, 3.0f, [&] { h.leaf({}); }, [&] { h.leaf({a, b}); }); };
+    const auto node2 = [&] {
+        h.inner(
+            2, 3.0f, [&] { h.leaf({}); },
+            [&] {
+                h.leaf({a, b});
+            });
+    };
     const auto node1 = [&] { h.inner(2, 3.0f, node2, [&] { h.leaf(behind); }); };
     h.inner(0, 1.0f, node1, [&] { h.leaf(beside); });
     MlrtaSettings s;

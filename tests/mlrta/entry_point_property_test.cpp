@@ -170,7 +170,8 @@ TEST(MlrtaEntryPointProperty, EveryClosestHitLiesBelowTheEntryPoint) {
                     if (!h.hit()) continue;
                     ++hits;
                     ASSERT_FALSE(ep.misses) << "beam " << n << " has a hit on triangle " << h.triangle;
-                    const double p[3] = {double(r.org.x) + double(r.dir.x) * h.t, double(r.org.y) + double(r.dir.y) * h.t,
+                    const double p[3] = {double(r.org.x) + double(r.dir.x) * h.t,
+                                         double(r.org.y) + double(r.dir.y) * h.t,
                                          double(r.org.z) + double(r.dir.z) * h.t};
                     const double scale = 1.0 + length(r.org) + length(r.dir) * double(h.t);
                     ASSERT_TRUE(hit_below(detail::Access::impl(tree), leaves, first, end, h.triangle, p, scale))
@@ -242,8 +243,8 @@ TEST(MlrtaEntryPointProperty, APartResumedFromItsWholesTrailFindsAValidEntryPoin
                         const std::vector<Ray> rays = random_beam_rays(rng, bounds);
                         SearchTrail trails[2];
                         std::uint64_t steps = 0;
-                        EntryPoint start = entry_point_search(*m, beam_of(rays, &bounds),
-                                                              root_entry(*m), steps, nullptr, &trails[0]);
+                        EntryPoint start =
+                            entry_point_search(*m, beam_of(rays, &bounds), root_entry(*m), steps, nullptr, &trails[0]);
                         int level = 0;
                         for (std::size_t count : {rays.size() / 2 + 1, rays.size() / 4 + 1}) {
                             if (start.misses || !trails[level % 2].valid) break;
@@ -274,7 +275,8 @@ TEST(MlrtaEntryPointProperty, APartResumedFromItsWholesTrailFindsAValidEntryPoin
                                                      double(r.org.y) + double(r.dir.y) * h.t,
                                                      double(r.org.z) + double(r.dir.z) * h.t};
                                 const double scale = 1.0 + length(r.org) + length(r.dir) * double(h.t);
-                                ASSERT_TRUE(hit_below(detail::Access::impl(tree), leaves, first, end, h.triangle, p, scale))
+                                ASSERT_TRUE(
+                                    hit_below(detail::Access::impl(tree), leaves, first, end, h.triangle, p, scale))
                                     << where << " beam " << n << " level " << level << ": the closest hit on "
                                     << h.triangle << " is outside the subtree of " << again.node;
                             }
@@ -303,8 +305,8 @@ TEST(MlrtaEntryPointProperty, EveryClosestHitLiesInTheFirstPotentialLeafOrAfterI
                 const std::vector<Ray> rays = random_beam_rays(rng, bounds);
                 SearchTrail whole_trail, part_trail;
                 std::uint64_t steps = 0;
-                const EntryPoint whole = entry_point_search(*m, beam_of(rays, &bounds), root_entry(*m),
-                                                            steps, nullptr, &whole_trail);
+                const EntryPoint whole =
+                    entry_point_search(*m, beam_of(rays, &bounds), root_entry(*m), steps, nullptr, &whole_trail);
                 const std::size_t half = rays.size() / 2 + 1;
                 const EntryPoint part = entry_point_search(*m, beam_of(first_rays(rays, half), &bounds), whole, steps,
                                                            &whole_trail, &part_trail);
@@ -324,12 +326,12 @@ TEST(MlrtaEntryPointProperty, EveryClosestHitLiesInTheFirstPotentialLeafOrAfterI
                                              double(r.org.y) + double(r.dir.y) * h.t,
                                              double(r.org.z) + double(r.dir.z) * h.t};
                         const double scale = 1.0 + length(r.org) + length(r.dir) * double(h.t);
-                        bool found = hit_below(detail::Access::impl(tree), leaves, trail.first.node, trail.first.node + 1,
-                                               h.triangle, p, scale);
+                        bool found = hit_below(detail::Access::impl(tree), leaves, trail.first.node,
+                                               trail.first.node + 1, h.triangle, p, scale);
                         for (int j = 0; j < trail.count && !found; ++j) {
                             const std::uint32_t other = trail.bif.at[j].other.node;
-                            found = hit_below(detail::Access::impl(tree), leaves, other, other + m->subtree_nodes[other], h.triangle,
-                                              p, scale);
+                            found = hit_below(detail::Access::impl(tree), leaves, other,
+                                              other + m->subtree_nodes[other], h.triangle, p, scale);
                         }
                         ASSERT_TRUE(found) << "beam " << n << " level " << level << ": the closest hit on "
                                            << h.triangle << " is before the first potential leaf " << trail.first.node;

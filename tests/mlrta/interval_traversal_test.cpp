@@ -228,7 +228,8 @@ TEST(MlrtaIntervalTraversal, ReversedShadowRaysGiveTheSameOcclusion) {
         }
         shadow.active = from_light.active = 0xFFFFu;
         std::uint32_t bits = 0;
-        mlrta.occluded(std::span<const Packet16>(&from_light, 1), std::span<std::uint32_t>(&bits, 1), QueryOptions{1, &counters});
+        mlrta.occluded(std::span<const Packet16>(&from_light, 1), std::span<std::uint32_t>(&bits, 1),
+                       QueryOptions{1, &counters});
         for (int i = 0; i < 16; ++i) {
             const bool got = (bits >> i) & 1u;
             ASSERT_TRUE(same_occlusion(tree, shadow.ray(i), got)) << "packet " << n << " lane " << i;

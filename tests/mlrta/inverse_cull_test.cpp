@@ -233,8 +233,8 @@ TEST(MlrtaInverseCull, SseRectangleEqualsTheScalarRangesBitForBit) {
         Float3 dir{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)};
         for (int k = 0; k < 3; ++k)
             if (std::fabs(dir[k]) < 0.01f) dir[k] = 0.01f;
-        std::vector<Ray> rays = bundle(rng, 2 + int(rng() % 20), org, rng() % 2 ? 0.0f : uniform(rng, 0, 5), dir,
-                                       uniform(rng, 0, 0.3f));
+        std::vector<Ray> rays =
+            bundle(rng, 2 + int(rng() % 20), org, rng() % 2 ? 0.0f : uniform(rng, 0, 5), dir, uniform(rng, 0, 0.3f));
         if (rng() % 2)
             for (Ray& r : rays) r.tfar = uniform(rng, 1, 100);
         Box scene{{-100, -100, -100}, {100, 100, 100}};
@@ -247,7 +247,8 @@ TEST(MlrtaInverseCull, SseRectangleEqualsTheScalarRangesBitForBit) {
             _mm_storeu_ps(got, split_rectangle(beam, k, p));
             for (int i = 0; i < 4; ++i)
                 ASSERT_EQ(std::bit_cast<std::uint32_t>(got[i]), std::bit_cast<std::uint32_t>(expected[i]))
-                    << "iteration " << iter << " axis " << k << " lane " << i << ": " << got[i] << " vs " << expected[i];
+                    << "iteration " << iter << " axis " << k << " lane " << i << ": " << got[i] << " vs "
+                    << expected[i];
             ++compared;
         }
     }

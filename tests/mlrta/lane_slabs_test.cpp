@@ -47,8 +47,9 @@ Case random_case(Rng& rng) {
     c.packet.active = std::uint32_t(rng() & 0xFFFFu);
     for (int i = 0; i < 16; ++i)
         if (!((c.packet.active >> i) & 1u)) c.packet.org_x[i] = NAN;
-    const Float3 centre = rng() % 2 ? Float3{uniform(rng, -scale, scale), uniform(rng, -scale, scale), uniform(rng, -scale, scale)}
-                                    : aim.org + aim.dir * uniform(rng, 0, 3 * scale);
+    const Float3 centre =
+        rng() % 2 ? Float3{uniform(rng, -scale, scale), uniform(rng, -scale, scale), uniform(rng, -scale, scale)}
+                  : aim.org + aim.dir * uniform(rng, 0, 3 * scale);
     for (int k = 0; k < 3; ++k) {
         const float half = rng() % 4 == 0 ? 0.0f : uniform(rng, 0, scale * 0.3f);
         c.box.lower[k] = centre[k] - half;
@@ -70,7 +71,8 @@ TEST(MlrtaLaneSlabs, KernelsEqualTheReferenceAndDropNoRayThatMeetsTheBox) {
             const Case& c = cases[n];
             const LaneBoxRays s = make_lane_box_rays(c.packet, 1e-6f);
             const std::uint32_t bits = kernel(s, c.packet.tfar, c.packet.active, c.box);
-            ASSERT_EQ(bits, lanes_meeting_box(s, c.packet.tfar, c.packet.active, c.box)) << isa_name(isa) << " case " << n;
+            ASSERT_EQ(bits, lanes_meeting_box(s, c.packet.tfar, c.packet.active, c.box))
+                << isa_name(isa) << " case " << n;
             ASSERT_EQ(bits & ~c.packet.active, 0u);
             for (std::uint32_t b = c.packet.active; b; b &= b - 1) {
                 const int i = __builtin_ctz(b);

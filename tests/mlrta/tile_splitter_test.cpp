@@ -111,7 +111,8 @@ void run_every_setting(const KdTree& tree, const Image& img, int& covered_entrie
                                 s.experimental.frustum_test = ft;
                                 s.experimental.ep_search = order;
                                 s.experimental.stop_when_stuck = stuck;
-                                s.experimental.triangle_culling = (threads == 2) != stuck;  // mixed in, not a full product
+                                s.experimental.triangle_culling =
+                                    (threads == 2) != stuck;  // mixed in, not a full product
                                 s.experimental.ep_resume = (threads == 1) != (order == EpSearch::top_down);
                                 s.experimental.retry_stuck = (sf == 16) != (ft == FrustumTest::direct);
                                 const Mlrta mlrta(tree, s);
@@ -222,7 +223,9 @@ TEST(MlrtaTileSplitter, ResumedSearchesAndTraversalsGiveTheSameAnswersInFewerSte
             // first potential leaf, which the trail's tests cost as much as); traversal takes fewer,
             // and so do both together.
             EXPECT_LT(counters[1].packet_steps, counters[0].packet_steps) << where;
-            EXPECT_LT(counters[1].packet_steps + counters[1].mlrta.ep_steps, counters[0].packet_steps + counters[0].mlrta.ep_steps) << where;
+            EXPECT_LT(counters[1].packet_steps + counters[1].mlrta.ep_steps,
+                      counters[0].packet_steps + counters[0].mlrta.ep_steps)
+                << where;
             EXPECT_LE(counters[1].triangle_tests, counters[0].triangle_tests) << where;
         }
 }

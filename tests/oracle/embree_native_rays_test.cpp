@@ -35,12 +35,23 @@ std::vector<Packet16> test_packets(std::size_t count, unsigned seed) {
             const Float3 target{1.3f * u(rng), 1.3f * u(rng), 1.3f * u(rng)};
             Ray r{org, 0.0f, target - org, (i % 5 == 0) ? 0.5f + 2.0f * (u(rng) + 1.0f) : kInfinity};
             switch ((p * 16 + std::size_t(i)) % 23) {
-                case 3: r.org.x = kNaN; break;
-                case 7: r.dir = {0, 0, 0}; break;
-                case 11: r.tnear = 2.0f, r.tfar = 1.0f; break;
-                case 13: r.tnear = -3.0f; break;
-                case 17: r.dir = r.dir * 1e20f; break;
-                default: break;
+                case 3:
+                    r.org.x = kNaN;
+                    break;
+                case 7:
+                    r.dir = {0, 0, 0};
+                    break;
+                case 11:
+                    r.tnear = 2.0f, r.tfar = 1.0f;
+                    break;
+                case 13:
+                    r.tnear = -3.0f;
+                    break;
+                case 17:
+                    r.dir = r.dir * 1e20f;
+                    break;
+                default:
+                    break;
             }
             packets[p].set_ray(i, r);
         }
@@ -162,7 +173,8 @@ TEST(EmbreeNativeRays, NonRobustSceneSaysSoAndStillHits) {
     EXPECT_FALSE(fast.robust());
     EXPECT_TRUE(EmbreeOracle(test::cube()).robust());
     std::vector<Packet16> packets(1);
-    for (int i = 0; i < 16; ++i) packets[0].set_ray(i, Ray{{0.1f * float(i % 4) - 0.2f, 0.05f, -5.0f}, 0.0f, {0, 0, 1}, kInfinity});
+    for (int i = 0; i < 16; ++i)
+        packets[0].set_ray(i, Ray{{0.1f * float(i % 4) - 0.2f, 0.05f, -5.0f}, 0.0f, {0, 0, 1}, kInfinity});
     packets[0].active = 0xFFFFu;
     EmbreeNativeRays native(fast, EmbreeLayout::packet16, packets, true);
     native.trace(EmbreeContextFlag::coherent, 0, native.units());

@@ -57,8 +57,8 @@ TEST(EmbreeOracle, HitOnOneTriangleMatchesHandComputation) {
 
 TEST(EmbreeOracle, MissesAndSegmentLimits) {
     const EmbreeOracle o(one_triangle());
-    EXPECT_FALSE(o.intersect1(make_ray({1.5f, 1.5f, -2.0f}, {0, 0, 1})).hit());   // beside the hypotenuse
-    EXPECT_FALSE(o.intersect1(make_ray({0.5f, 0.25f, 2.0f}, {0, 0, 1})).hit());   // triangle behind
+    EXPECT_FALSE(o.intersect1(make_ray({1.5f, 1.5f, -2.0f}, {0, 0, 1})).hit());               // beside the hypotenuse
+    EXPECT_FALSE(o.intersect1(make_ray({0.5f, 0.25f, 2.0f}, {0, 0, 1})).hit());               // triangle behind
     EXPECT_FALSE(o.intersect1(make_ray({0.5f, 0.25f, -2.0f}, {0, 0, 1}, 0.0f, 2.5f)).hit());  // too short
     EXPECT_FALSE(o.intersect1(make_ray({0.5f, 0.25f, -2.0f}, {0, 0, 1}, 3.5f)).hit());        // starts past it
     EXPECT_TRUE(o.intersect1(make_ray({0.5f, 0.25f, -2.0f}, {0, 0, 1}, 2.5f, 3.5f)).hit());
@@ -173,11 +173,11 @@ TEST(EmbreeOracle, DegenerateTrianglesAreNeverHitAndIdsStayTheScenes) {
     const EmbreeOracle o(s);
     EXPECT_EQ(o.embree_triangle_count(), 1u);
     const std::vector<Ray> at_degenerates = {
-        make_ray({0.5f, 0.0f, 5.0f}, {0, 0, -1}, 0.0f, 4.5f),  // through the collinear one at z = 1
-        make_ray({-1.0f, 0.0f, 1.0f}, {1, 0, 0}),              // along it
-        make_ray({0.5f, -1.0f, 1.0f}, {0, 1, 0}),              // across it
-        make_ray({0.5f, 0.5f, 5.0f}, {0, 0, -1}, 0.0f, 4.5f),  // through the repeated-corner one and the diagonal one
-        make_ray({-1.0f, -1.0f, 2.0f}, {1, 1, 0}),             // along the repeated-corner one
+        make_ray({0.5f, 0.0f, 5.0f}, {0, 0, -1}, 0.0f, 4.5f),    // through the collinear one at z = 1
+        make_ray({-1.0f, 0.0f, 1.0f}, {1, 0, 0}),                // along it
+        make_ray({0.5f, -1.0f, 1.0f}, {0, 1, 0}),                // across it
+        make_ray({0.5f, 0.5f, 5.0f}, {0, 0, -1}, 0.0f, 4.5f),    // through the repeated-corner one and the diagonal one
+        make_ray({-1.0f, -1.0f, 2.0f}, {1, 1, 0}),               // along the repeated-corner one
         make_ray({0.25f, 0.25f, 5.0f}, {0, 0, -1}, 0.0f, 4.5f),  // through the point triangle
         make_ray({-1.0f, -1.0f, 4.0f}, {1, 1, 0}),               // along the diagonal one
     };
@@ -264,8 +264,10 @@ TEST(EmbreeOracle, InactiveLanesReportNoHitEvenWhenTheirRaysWouldHit) {
     for (int i = 0; i < 16; ++i) {
         const bool active = (p.active >> i) & 1u;
         EXPECT_EQ(hits.triangle[i], active ? 0u : kNoHit) << i;
-        if (active) EXPECT_NEAR(hits.t[i], 2.0f, 1e-6f) << i;
-        else EXPECT_EQ(hits.t[i], kInfinity) << i;
+        if (active)
+            EXPECT_NEAR(hits.t[i], 2.0f, 1e-6f) << i;
+        else
+            EXPECT_EQ(hits.t[i], kInfinity) << i;
     }
     EXPECT_EQ(o.occluded16(p), 0x5A5Au);
     p.active = 0;

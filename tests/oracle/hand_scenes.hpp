@@ -43,9 +43,8 @@ inline Scene cube() {
 // z = 2, 2 the good triangle (0,0,0),(1,0,0),(0,1,0), 3 all corners equal at (0.25,0.25,3),
 // 4 collinear along the diagonal at z = 4.
 inline Scene with_degenerates() {
-    const std::vector<Float3> v = {{0, 0, 1}, {1, 0, 1}, {2, 0, 1},  {0, 0, 2},          {1, 1, 2},
-                                   {0, 0, 0}, {1, 0, 0}, {0, 1, 0},  {0.25f, 0.25f, 3}, {0, 0, 4},
-                                   {0.5f, 0.5f, 4}, {1, 1, 4}};
+    const std::vector<Float3> v = {{0, 0, 1}, {1, 0, 1}, {2, 0, 1},         {0, 0, 2}, {1, 1, 2},       {0, 0, 0},
+                                   {1, 0, 0}, {0, 1, 0}, {0.25f, 0.25f, 3}, {0, 0, 4}, {0.5f, 0.5f, 4}, {1, 1, 4}};
     const std::vector<std::uint32_t> i = {0, 1, 2, 3, 4, 4, 5, 6, 7, 8, 8, 8, 9, 10, 11};
     return Scene(v, i);
 }

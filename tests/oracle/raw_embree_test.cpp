@@ -26,8 +26,12 @@ struct RawScene {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         RTCRayHit rh{};
-        rh.ray.org_x = o[0]; rh.ray.org_y = o[1]; rh.ray.org_z = o[2];
-        rh.ray.dir_x = d[0]; rh.ray.dir_y = d[1]; rh.ray.dir_z = d[2];
+        rh.ray.org_x = o[0];
+        rh.ray.org_y = o[1];
+        rh.ray.org_z = o[2];
+        rh.ray.dir_x = d[0];
+        rh.ray.dir_y = d[1];
+        rh.ray.dir_z = d[2];
         rh.ray.tnear = tnear;
         rh.ray.tfar = tfar;
         rh.ray.mask = 0xFFFFFFFFu;
@@ -42,10 +46,10 @@ RawScene::RawScene(const Scene& s) {
     scene = rtcNewScene(device);
     rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), s.vertex_count()));
+    auto* vb = static_cast<float*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), s.vertex_count()));
     auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                             3 * sizeof(unsigned), s.triangle_count()));
+                                                              3 * sizeof(unsigned), s.triangle_count()));
     std::memcpy(vb, s.vertices().data(), s.vertex_count() * sizeof(Float3));
     std::memcpy(ib, s.indices().data(), s.indices().size() * sizeof(std::uint32_t));
     rtcCommitGeometry(g);
@@ -59,15 +63,20 @@ TEST(RawEmbree, SkipsDegenerateTriangles) {
     ASSERT_EQ(rtcGetDeviceError(raw.device), RTC_ERROR_NONE);
 
     // Rays through, along and across each degenerate triangle, stopping above the good one.
-    struct R { float o[3], d[3], tfar; };
+    struct R {
+        float o[3], d[3], tfar;
+    };
     const float inf = std::numeric_limits<float>::infinity();
     const std::vector<R> rays = {
-        {{0.5f, 0.0f, 5.0f}, {0, 0, -1}, 4.5f}, {{-1, 0, 1}, {1, 0, 0}, inf},  {{0.5f, -1, 1}, {0, 1, 0}, inf},
-        {{1.5f, -1, 1}, {0, 1, 0}, inf},        {{0.5f, 0.5f, 5}, {0, 0, -1}, 4.5f}, {{-1, -1, 2}, {1, 1, 0}, inf},
-        {{0.25f, 0.25f, 5}, {0, 0, -1}, 4.5f},  {{-1, -1, 4}, {1, 1, 0}, inf},  {{0.25f, 0.25f, 3}, {1, 0, 0}, inf},
-        {{0, 0, 5}, {0, 0, -1}, 4.5f},          {{1, 1, 5}, {0, 0, -1}, 4.5f},
+        {{0.5f, 0.0f, 5.0f}, {0, 0, -1}, 4.5f}, {{-1, 0, 1}, {1, 0, 0}, inf},
+        {{0.5f, -1, 1}, {0, 1, 0}, inf},        {{1.5f, -1, 1}, {0, 1, 0}, inf},
+        {{0.5f, 0.5f, 5}, {0, 0, -1}, 4.5f},    {{-1, -1, 2}, {1, 1, 0}, inf},
+        {{0.25f, 0.25f, 5}, {0, 0, -1}, 4.5f},  {{-1, -1, 4}, {1, 1, 0}, inf},
+        {{0.25f, 0.25f, 3}, {1, 0, 0}, inf},    {{0, 0, 5}, {0, 0, -1}, 4.5f},
+        {{1, 1, 5}, {0, 0, -1}, 4.5f},
     };
-    for (std::size_t i = 0; i < rays.size(); ++i) EXPECT_EQ(raw.intersect(rays[i].o, rays[i].d, 0.0f, rays[i].tfar), -1) << i;
+    for (std::size_t i = 0; i < rays.size(); ++i)
+        EXPECT_EQ(raw.intersect(rays[i].o, rays[i].d, 0.0f, rays[i].tfar), -1) << i;
     // The good triangle (primID 2) is hit.
     const float o[3] = {0.25f, 0.25f, 10.0f}, d[3] = {0, 0, -1};
     EXPECT_EQ(raw.intersect(o, d, 0.0f, inf), 2);
@@ -77,7 +86,7 @@ TEST(RawEmbree, MissesReversedSegments) {
     const RawScene raw(test::one_triangle());
     const float o[3] = {0.5f, 0.25f, -2.0f}, d[3] = {0, 0, 1};
     EXPECT_EQ(raw.intersect(o, d, 0.0f, 10.0f), 0);
-    EXPECT_EQ(raw.intersect(o, d, 4.0f, 2.0f), -1);   // the hit at t = 3 lies between them
+    EXPECT_EQ(raw.intersect(o, d, 4.0f, 2.0f), -1);  // the hit at t = 3 lies between them
     EXPECT_EQ(raw.intersect(o, d, 3.5f, 2.5f), -1);
     EXPECT_EQ(raw.intersect(o, d, 10.0f, 0.0f), -1);
     EXPECT_EQ(rtcGetDeviceError(raw.device), RTC_ERROR_NONE);

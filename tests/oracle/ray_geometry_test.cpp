@@ -13,8 +13,12 @@
 namespace beamtrace::oracle {
 namespace {
 
-double dist(Double3 a, Double3 b) { return std::sqrt((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) + (a.z - b.z) * (a.z - b.z)); }
-Double3 lerp(Double3 a, Double3 b, double s) { return {a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), a.z + s * (b.z - a.z)}; }
+double dist(Double3 a, Double3 b) {
+    return std::sqrt((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) + (a.z - b.z) * (a.z - b.z));
+}
+Double3 lerp(Double3 a, Double3 b, double s) {
+    return {a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), a.z + s * (b.z - a.z)};
+}
 
 TEST(RayGeometry, SegmentDistanceKnownCases) {
     // Skew perpendicular segments one unit apart, closest points inside both.
@@ -49,7 +53,8 @@ TEST(RayGeometry, SegmentDistanceAgreesWithSampling) {
         const int n = 400;
         double sampled = 1e300;
         for (int i = 0; i <= n; ++i)
-            for (int j = 0; j <= n; ++j) sampled = std::min(sampled, dist(lerp(p0, p1, double(i) / n), lerp(q0, q1, double(j) / n)));
+            for (int j = 0; j <= n; ++j)
+                sampled = std::min(sampled, dist(lerp(p0, p1, double(i) / n), lerp(q0, q1, double(j) / n)));
         const double d = segment_distance(p0, p1, q0, q1);
         const double step = (dist(p0, p1) + dist(q0, q1)) / n;
         EXPECT_LE(d, sampled + 1e-12) << trial;

@@ -64,7 +64,8 @@ TEST(Camera, TopRowPointsUpLeftColumnPointsLeft) {
         EXPECT_GT(c.primary_ray(63, py, 64, 48).dir.x, 0.0f) << "right column, row " << py;
     }
     // Moving down the image the rays turn steadily downward.
-    for (int py = 1; py < 48; ++py) EXPECT_LT(c.primary_ray(10, py, 64, 48).dir.y, c.primary_ray(10, py - 1, 64, 48).dir.y);
+    for (int py = 1; py < 48; ++py)
+        EXPECT_LT(c.primary_ray(10, py, 64, 48).dir.y, c.primary_ray(10, py - 1, 64, 48).dir.y);
 }
 
 TEST(Camera, FieldOfViewIsVerticalAndAspectWidensIt) {
@@ -117,7 +118,8 @@ TEST(ParseCamera, ReadsSevenNumbers) {
 
 TEST(ParseCamera, ErrorsNameTheBadField) {
     auto message = [](const std::string& text) { return error_of([&] { parse_camera(text); }); };
-    EXPECT_NE(message("1,2,3").find("expected 7 comma-separated numbers EX,EY,EZ,AX,AY,AZ,FOVY, got 3"), std::string::npos);
+    EXPECT_NE(message("1,2,3").find("expected 7 comma-separated numbers EX,EY,EZ,AX,AY,AZ,FOVY, got 3"),
+              std::string::npos);
     EXPECT_NE(message("1,2,3,4,5,6,7,8").find("got 8"), std::string::npos);
     EXPECT_NE(message("").find("got 1"), std::string::npos);
     const std::string bad_ez = message("1,2,x,4,5,6,60");
@@ -139,7 +141,8 @@ TEST(ParsePoint, ReadsThreeNumbersAndNamesBadFields) {
     EXPECT_EQ(parse_point("1,-2,3.5"), (Float3{1, -2, 3.5f}));
     const std::string m = error_of([] { parse_point("1,y,3", "--light"); });
     EXPECT_NE(m.find("--light: field Y (2nd) is not a number: \"y\""), std::string::npos) << m;
-    EXPECT_NE(error_of([] { parse_point("1,2"); }).find("expected 3 comma-separated numbers X,Y,Z, got 2"), std::string::npos);
+    EXPECT_NE(error_of([] { parse_point("1,2"); }).find("expected 3 comma-separated numbers X,Y,Z, got 2"),
+              std::string::npos);
     EXPECT_NE(error_of([] { parse_point("1,2,inf"); }).find("Z (3rd) is not a finite number"), std::string::npos);
 }
 

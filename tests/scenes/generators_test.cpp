@@ -23,8 +23,8 @@ bool same_geometry(const Scene& a, const Scene& b) {
 }
 
 bool inside(const Box& box, Float3 p) {
-    return p.x >= box.lower.x && p.y >= box.lower.y && p.z >= box.lower.z && p.x <= box.upper.x &&
-           p.y <= box.upper.y && p.z <= box.upper.z;
+    return p.x >= box.lower.x && p.y >= box.lower.y && p.z >= box.lower.z && p.x <= box.upper.x && p.y <= box.upper.y &&
+           p.z <= box.upper.z;
 }
 
 // --- tetra ---

@@ -38,8 +38,10 @@ TEST(MeshBuilder, TetrahedronFacesAwayFromOppositeCorner) {
     for (bool mirrored : {false, true}) {
         MeshBuilder m;
         const Float3 a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0}, d{0, 0, 1};
-        if (mirrored) m.add_tetrahedron(a, c, b, d);
-        else m.add_tetrahedron(a, b, c, d);
+        if (mirrored)
+            m.add_tetrahedron(a, c, b, d);
+        else
+            m.add_tetrahedron(a, b, c, d);
         const auto t = topology(m.vertices(), m.indices());
         EXPECT_TRUE(t.closed());
         EXPECT_NEAR(t.signed_volume, 1.0 / 6.0, 1e-7);
@@ -132,7 +134,8 @@ TEST(MeshBuilder, TubeAlongAKnotIsClosedAndFacesOutward) {
     auto step = [&](std::size_t ring) {
         float longest = 0.0f;
         for (std::size_t j = 0; j < 20; ++j)
-            longest = std::max(longest, length(m.vertices()[((ring + 1) % 240) * 20 + j] - m.vertices()[ring * 20 + j]));
+            longest =
+                std::max(longest, length(m.vertices()[((ring + 1) % 240) * 20 + j] - m.vertices()[ring * 20 + j]));
         return longest;
     };
     float longest_inside = 0.0f;
@@ -148,7 +151,8 @@ TEST(MeshBuilder, AppendPlacesACopy) {
     m.append(unit, Frame::upright({5, 0, 0}, 1.0f, 2.0f));
     EXPECT_EQ(m.triangle_count(), 12u + 80u);
     EXPECT_EQ(m.vertex_count(), 8u + unit.vertex_count());
-    for (std::size_t i = 8; i < m.vertex_count(); ++i) EXPECT_NEAR(length(m.vertices()[i] - Float3{5, 0, 0}), 2.0f, 1e-5f);
+    for (std::size_t i = 8; i < m.vertex_count(); ++i)
+        EXPECT_NEAR(length(m.vertices()[i] - Float3{5, 0, 0}), 2.0f, 1e-5f);
     for (std::size_t i = 36; i < m.indices().size(); ++i) EXPECT_GE(m.indices()[i], 8u);
     EXPECT_TRUE(topology(m.vertices(), m.indices()).closed());
 }

@@ -25,8 +25,7 @@ class MeshFile : public ::testing::Test {
 protected:
     void SetUp() override {
         const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() /
-               ("beamtrace_scenes_" + std::to_string(::getpid()) + "_" + info->name());
+        dir_ = fs::temp_directory_path() / ("beamtrace_scenes_" + std::to_string(::getpid()) + "_" + info->name());
         fs::remove_all(dir_);
         fs::create_directories(dir_);
     }
@@ -94,13 +93,14 @@ TEST_F(MeshFile, OffWithAPolygon) {
 }
 
 TEST_F(MeshFile, AsciiAndBinaryStl) {
-    const std::string ascii = write("two.stl",
-                                    "solid two\n"
-                                    " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 1 1 0\n"
-                                    "  endloop\n endfacet\n"
-                                    " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 1 0\n   vertex 0 1 0\n"
-                                    "  endloop\n endfacet\n"
-                                    "endsolid two\n");
+    const std::string ascii =
+        write("two.stl",
+              "solid two\n"
+              " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 1 1 0\n"
+              "  endloop\n endfacet\n"
+              " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 1 0\n   vertex 0 1 0\n"
+              "  endloop\n endfacet\n"
+              "endsolid two\n");
     const SceneSource a = load_scene(ascii);
     EXPECT_EQ(a.scene.triangle_count(), 2u);
     EXPECT_EQ(a.scene.vertex_count(), 4u);
@@ -144,7 +144,9 @@ TEST_F(MeshFile, GltfWithANodeTransform) {
         R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],)"
         R"("nodes":[{"mesh":0,"translation":[10,0,0]}],)"
         R"("meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}],)"
-        R"("buffers":[{"byteLength":42,"uri":"data:application/octet-stream;base64,)" + base64(buffer) + R"("}],)"
+        R"("buffers":[{"byteLength":42,"uri":"data:application/octet-stream;base64,)" +
+        base64(buffer) +
+        R"("}],)"
         R"("bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],)"
         R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},)"
         R"({"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]})";
@@ -177,13 +179,15 @@ TEST_F(MeshFile, EmptyFile) {
 }
 
 TEST_F(MeshFile, FileWithoutTriangles) {
-    for (const auto& [name, text] : {std::pair<std::string, std::string>{"lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2 3\n"},
-                                     {"points.obj", "v 0 0 0\nv 1 0 0\np 1 2\n"},
-                                     {"vertices.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"},
-                                     {"lines.ply", "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n"
-                                                   "property float y\nproperty float z\nelement edge 1\n"
-                                                   "property int vertex1\nproperty int vertex2\nend_header\n"
-                                                   "0 0 0\n1 0 0\n0 1\n"}}) {
+    for (const auto& [name, text] :
+         {std::pair<std::string, std::string>{"lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2 3\n"},
+          {"points.obj", "v 0 0 0\nv 1 0 0\np 1 2\n"},
+          {"vertices.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"},
+          {"lines.ply",
+           "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n"
+           "property float y\nproperty float z\nelement edge 1\n"
+           "property int vertex1\nproperty int vertex2\nend_header\n"
+           "0 0 0\n1 0 0\n0 1\n"}}) {
         const std::string path = write(name, text);
         const std::string m = load_error(path);
         EXPECT_EQ(m, path + " contains no triangles") << name;
@@ -204,10 +208,11 @@ TEST_F(MeshFile, NonFiniteCoordinatesAreRejectedNamingTheFile) {
 
 TEST_F(MeshFile, BadIndicesAreRejectedNamingTheFile) {
     const std::string obj = write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
-    const std::string ply = write("bad.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
-                                             "property float y\nproperty float z\nelement face 1\n"
-                                             "property list uchar int vertex_indices\nend_header\n"
-                                             "0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n");
+    const std::string ply = write("bad.ply",
+                                  "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                  "property float y\nproperty float z\nelement face 1\n"
+                                  "property list uchar int vertex_indices\nend_header\n"
+                                  "0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n");
     for (const std::string& path : {obj, ply}) {
         const std::string m = load_error(path);
         EXPECT_NE(m.find("cannot read " + path + ": "), std::string::npos) << m;
@@ -232,10 +237,12 @@ TEST_F(MeshFile, GarbageIsRejectedWhateverItsExtension) {
 TEST_F(MeshFile, OffVariants) {
     const std::pair<const char*, std::string> files[] = {
         {"same_line.off", "OFF 4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n"},
-        {"comments.off", "# made by hand\nOFF # keyword\n4 1 0 # counts\n0 0 0\n1 0 0\n# a comment line\n1 1 0\n0 1 0\n"
-                         "4 0 1 2 3 # a quad\n"},
-        {"colours.off", "COFF\n4 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n1 1 0 0 0 255 255\n0 1 0 9 9 9 9\n"
-                        "4 0 1 2 3 0.5 0.5 0.5\n"},
+        {"comments.off",
+         "# made by hand\nOFF # keyword\n4 1 0 # counts\n0 0 0\n1 0 0\n# a comment line\n1 1 0\n0 1 0\n"
+         "4 0 1 2 3 # a quad\n"},
+        {"colours.off",
+         "COFF\n4 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n1 1 0 0 0 255 255\n0 1 0 9 9 9 9\n"
+         "4 0 1 2 3 0.5 0.5 0.5\n"},
         {"no_keyword.off", "4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n"},
         {"crlf.off", "OFF\r\n4 1 0\r\n0 0 0\r\n1 0 0\r\n1 1 0\r\n0 1 0\r\n4 0 1 2 3\r\n"},
         {"no_final_newline.off", "OFF\n4 1\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3"},
@@ -333,8 +340,9 @@ TEST_F(MeshFile, AssimpAbortingOnAFileIsAnErrorNotACrash) {
     const std::string header =
         "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
         "property float z\nproperty uchar red\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n";
-    const char hex[] = "00008000003f8000000000000007000000003f800000000000000703000000000000000100000002030000000000"
-                       "030000000000000000000200000003";
+    const char hex[] =
+        "00008000003f8000000000000007000000003f800000000000000703000000000000000100000002030000000000"
+        "030000000000000000000200000003";
     std::string body;
     for (std::size_t i = 0; hex[i] != '\0'; i += 2) body += char(std::stoi(std::string(hex + i, 2), nullptr, 16));
     const std::string path = write("triangulate_assert.ply", header + body);
@@ -349,12 +357,12 @@ TEST_F(MeshFile, AssimpAbortingOnAFileIsAnErrorNotACrash) {
 TEST_F(MeshFile, ObjHostileInputIsRejectedNamingTheFile) {
     const std::string corners = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
     const std::string cases[] = {
-        corners + "f 1 2 -9\n",            // relative index before the first vertex
-        corners + "f 1 2 99999999999\n",   // huge
-        corners + "f 1 2 4\n",             // one past the end
+        corners + "f 1 2 -9\n",           // relative index before the first vertex
+        corners + "f 1 2 99999999999\n",  // huge
+        corners + "f 1 2 4\n",            // one past the end
         "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n",
         "v 0 0 0\nv 1 0 0\nv 0 inf 0\nf 1 2 3\n",
-        corners + "f 1 2\n",               // a line only
+        corners + "f 1 2\n",  // a line only
     };
     int i = 0;
     for (const std::string& text : cases) {

@@ -10,13 +10,15 @@
 namespace beamtrace::scenes::testing {
 
 struct Topology {
-    std::size_t edges = 0;                // undirected edges
-    std::size_t edges_not_shared_by_two = 0;  // used by 1 or 3+ triangles: holes or fins
-    std::size_t directed_edges_repeated = 0;  // the same directed edge twice: inconsistent orientation
+    std::size_t edges = 0;                       // undirected edges
+    std::size_t edges_not_shared_by_two = 0;     // used by 1 or 3+ triangles: holes or fins
+    std::size_t directed_edges_repeated = 0;     // the same directed edge twice: inconsistent orientation
     std::size_t degenerate_index_triangles = 0;  // a triangle naming one vertex twice
-    double signed_volume = 0.0;           // positive for closed meshes facing outward
+    double signed_volume = 0.0;                  // positive for closed meshes facing outward
 
-    bool closed() const { return edges_not_shared_by_two == 0 && directed_edges_repeated == 0 && degenerate_index_triangles == 0; }
+    bool closed() const {
+        return edges_not_shared_by_two == 0 && directed_edges_repeated == 0 && degenerate_index_triangles == 0;
+    }
 };
 
 inline Topology topology(std::span<const Float3> vertices, std::span<const std::uint32_t> indices) {
@@ -30,7 +32,8 @@ inline Topology topology(std::span<const Float3> vertices, std::span<const std::
         const Float3 a = vertices[c[0]], b = vertices[c[1]], d = vertices[c[2]];
         t.signed_volume += (double(a.x) * (double(b.y) * d.z - double(b.z) * d.y) -
                             double(a.y) * (double(b.x) * d.z - double(b.z) * d.x) +
-                            double(a.z) * (double(b.x) * d.y - double(b.y) * d.x)) / 6.0;
+                            double(a.z) * (double(b.x) * d.y - double(b.y) * d.x)) /
+                           6.0;
     }
     for (const auto& [key, count] : directed) {
         const std::uint32_t from = static_cast<std::uint32_t>(key >> 32), to = static_cast<std::uint32_t>(key);

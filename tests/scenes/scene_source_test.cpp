@@ -62,22 +62,18 @@ TEST(LoadScene, BadParameters) {
         const char* spec;
         const char* expected;
     };
-    for (const Case& c : {Case{"random:0", "triangle count \"0\" must be between 1 and 10000000"},
-                          Case{"random:-5", "must be between 1 and 10000000"},
-                          Case{"random:10000001", "must be between 1 and 10000000"},
-                          Case{"random:99999999999999999999", "must be between 1 and 10000000"},
-                          Case{"random:abc", "triangle count \"abc\" is not a whole number"},
-                          Case{"random:1e3", "is not a whole number"},
-                          Case{"random:", "is not a whole number"},
-                          Case{"random", "random needs a parameter"},
-                          Case{"tetra", "tetra needs a parameter"},
-                          Case{"tetra:11", "level \"11\" must be between 0 and 10"},
-                          Case{"tetra:-1", "must be between 0 and 10"},
-                          Case{"tetra:2.5", "not a whole number"},
-                          Case{"sphereflake:6", "level \"6\" must be between 0 and 5"},
-                          Case{"room:x", "seed \"x\" is not a whole number"},
-                          Case{"room:-1", "must be between 0 and 4294967295"},
-                          Case{"", "empty scene spec"}}) {
+    for (const Case& c :
+         {Case{"random:0", "triangle count \"0\" must be between 1 and 10000000"},
+          Case{"random:-5", "must be between 1 and 10000000"},
+          Case{"random:10000001", "must be between 1 and 10000000"},
+          Case{"random:99999999999999999999", "must be between 1 and 10000000"},
+          Case{"random:abc", "triangle count \"abc\" is not a whole number"},
+          Case{"random:1e3", "is not a whole number"}, Case{"random:", "is not a whole number"},
+          Case{"random", "random needs a parameter"}, Case{"tetra", "tetra needs a parameter"},
+          Case{"tetra:11", "level \"11\" must be between 0 and 10"}, Case{"tetra:-1", "must be between 0 and 10"},
+          Case{"tetra:2.5", "not a whole number"}, Case{"sphereflake:6", "level \"6\" must be between 0 and 5"},
+          Case{"room:x", "seed \"x\" is not a whole number"}, Case{"room:-1", "must be between 0 and 4294967295"},
+          Case{"", "empty scene spec"}}) {
         const std::string m = load_error(c.spec);
         EXPECT_NE(m.find(c.expected), std::string::npos) << c.spec << " -> " << m;
         if (*c.spec) {

@@ -15,7 +15,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("beamtrace_report_test_" + name + "_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / ("beamtrace_report_test_" + name + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     return dir;
 }
@@ -47,7 +48,7 @@ TEST(PngImage, WrittenAndReadBack) {
     EXPECT_EQ(corner[0], 255);
     EXPECT_EQ(corner[1], 0);
     EXPECT_EQ(corner[2], 7);
-    EXPECT_EQ(data[1 * 3 + 0], 40);  // pixel (1, 0)
+    EXPECT_EQ(data[1 * 3 + 0], 40);         // pixel (1, 0)
     EXPECT_EQ(data[(1 * 5) * 3 + 1], 100);  // pixel (0, 1)
     stbi_image_free(data);
     fs::remove_all(dir);
@@ -64,7 +65,11 @@ TEST(PngImage, Errors) {
     fs::create_directories(dir);
     // A regular file where a parent directory should be: the message names the path.
     const fs::path blocker = dir / "blocker";
-    { std::FILE* f = std::fopen(blocker.c_str(), "w"); ASSERT_NE(f, nullptr); std::fclose(f); }
+    {
+        std::FILE* f = std::fopen(blocker.c_str(), "w");
+        ASSERT_NE(f, nullptr);
+        std::fclose(f);
+    }
     const std::string path = (blocker / "sub" / "x.png").string();
     try {
         write_png(img, path);

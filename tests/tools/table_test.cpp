@@ -37,9 +37,10 @@ TEST(Table, Markdown) {
 TEST(Table, Utf8WidthsAndEmptyTable) {
     Table t({"µs", "what"});
     t.add_row({"1.5", "ä"});
-    EXPECT_EQ(t.text(), " µs  what\n"
-                        "---  ----\n"
-                        "1.5  ä\n");
+    EXPECT_EQ(t.text(),
+              " µs  what\n"
+              "---  ----\n"
+              "1.5  ä\n");
     Table empty({"only"});
     EXPECT_EQ(empty.text(), "only\n----\n");
 }

@@ -150,7 +150,7 @@ TEST(DirectionSet, LookupHalfwayBetweenTwoDirections) {
                 if (j == i) continue;
                 for (float s : {1.0f, -1.0f}) {  // a line's two directions
                     const Float3 b = set.direction(j) * s;
-                    if (dot(a, b) < 0.9f) continue;  // neighbours only
+                    if (dot(a, b) < 0.9f) continue;     // neighbours only
                     check_lookup(set, a + b, checked);  // exactly between (up to float rounding)
                     check_lookup(set, (a + b) * -1.0f, checked);
                 }

@@ -45,8 +45,8 @@ WorkloadConfig ao_config(AoDirections dirs) {
 
 TEST(VlfAoRays, RandomDirectionsAreUnchanged) {
     // The fingerprint of the rays make_ao_rays produced before it learnt about PSF directions
-    // (computed with tools/workload/ray_set.cpp of commit 6fd37c6). Primary hits come from the kd-tree, whose answers are the
-    // same on every machine and instruction set (Embree's last bits may differ between them).
+    // (computed with tools/workload/ray_set.cpp of commit 6fd37c6). Primary hits come from the kd-tree, whose answers
+    // are the same on every machine and instruction set (Embree's last bits may differ between them).
     const scenes::SceneSource source = scenes::load_scene("tetra:3");
     const RaySet primary = make_primary_rays(source.camera, 32, 32);
     const KdTree tree = KdTree::build(source.scene);

@@ -27,9 +27,10 @@ nlohmann::json read_json(const fs::path& p) {
 
 TEST(VlfCli, BenchRunsBothEnginesWithTheirOptionsAndStats) {
     const fs::path json = temp_dir() / "primary.json";
-    const CommandResult r = run("bench --scene tetra:3 --mode primary --engines embree1,vlf,vlf-fast --width 64 "
-                                "--height 64 --vlf-dirs 33 --vlf-tiles 64 --vlf-depth 2 --repeats 1 --json " +
-                                json.string());
+    const CommandResult r =
+        run("bench --scene tetra:3 --mode primary --engines embree1,vlf,vlf-fast --width 64 "
+            "--height 64 --vlf-dirs 33 --vlf-tiles 64 --vlf-depth 2 --repeats 1 --json " +
+            json.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const nlohmann::json j = read_json(json);
     for (const char* name : {"vlf", "vlf-fast"}) {
@@ -53,8 +54,10 @@ TEST(VlfCli, BenchRunsBothEnginesWithTheirOptionsAndStats) {
 
 TEST(VlfCli, AoAlongPsfDirectionsForEveryEngine) {
     const fs::path json = temp_dir() / "ao.json";
-    const CommandResult r = run("bench --scene tetra:3 --mode ao --ao-dirs psf --ao-rays 16 --vlf-dirs 33 --engines "
-                                "embree1,embree16,kd1,vlf --width 48 --height 48 --repeats 1 --json " + json.string());
+    const CommandResult r =
+        run("bench --scene tetra:3 --mode ao --ao-dirs psf --ao-rays 16 --vlf-dirs 33 --engines "
+            "embree1,embree16,kd1,vlf --width 48 --height 48 --repeats 1 --json " +
+            json.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const nlohmann::json j = read_json(json);
     const auto hits = j["engines"]["embree1"]["hits"].get<std::uint64_t>();
@@ -78,8 +81,10 @@ TEST(VlfCli, BadSettingsAreOneLineAndExitTwo) {
 
 TEST(VlfCli, RendersAnAmbientOcclusionPicture) {
     const fs::path png = temp_dir() / "ao.png";
-    const CommandResult r = run("render --scene tetra:3 --engine vlf --shade ao --ao-dirs psf --vlf-dirs 33 --width 32 "
-                                "--height 32 --out " + png.string());
+    const CommandResult r =
+        run("render --scene tetra:3 --engine vlf --shade ao --ao-dirs psf --vlf-dirs 33 --width 32 "
+            "--height 32 --out " +
+            png.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_TRUE(fs::exists(png));
     EXPECT_GT(fs::file_size(png), 100u);

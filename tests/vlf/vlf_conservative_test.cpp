@@ -62,7 +62,7 @@ Soup awkward_soup(std::mt19937& rng, int count) {
         Triangle t{c + Float3{s(rng), s(rng), s(rng)} * size, c + Float3{s(rng), s(rng), s(rng)} * size,
                    c + Float3{s(rng), s(rng), s(rng)} * size};
         if (i % 11 == 0) t.v2 = t.v0 + (t.v1 - t.v0) * 0.5f + Float3{0, 0, 1e-6f};  // a sliver
-        if (i % 13 == 0) t.v2 = t.v0 * 0.5f + t.v1 * 0.5f;                           // a segment
+        if (i % 13 == 0) t.v2 = t.v0 * 0.5f + t.v1 * 0.5f;                          // a segment
         soup.triangles.push_back(t);
     }
     for (const Triangle& t : soup.triangles)
@@ -121,11 +121,10 @@ TEST(VlfConservative, EveryTriangleMeetingATileIsInItsLeavesWithItsFootprint) {
                     ASSERT_GT(ref.leaves, 0u) << "triangle " << id << " missing from tile " << c << "," << r;
                     const TileBspView bsp = psf.view(ref);
                     const FootprintLattice lat = FootprintLattice::of_tile(grid, c, r);
-                    const std::uint32_t need[4] = {
-                        FootprintLattice::cell((part.xlo - lat.x0) * lat.scale),
-                        FootprintLattice::cell((part.ylo - lat.y0) * lat.scale),
-                        FootprintLattice::cell((part.xhi - lat.x0) * lat.scale),
-                        FootprintLattice::cell((part.yhi - lat.y0) * lat.scale)};
+                    const std::uint32_t need[4] = {FootprintLattice::cell((part.xlo - lat.x0) * lat.scale),
+                                                   FootprintLattice::cell((part.ylo - lat.y0) * lat.scale),
+                                                   FootprintLattice::cell((part.xhi - lat.x0) * lat.scale),
+                                                   FootprintLattice::cell((part.yhi - lat.y0) * lat.scale)};
                     for (std::uint32_t j = 0; j < ref.leaves; ++j) {
                         const double lo = j == 0 ? -1e300 : double(bsp.split(j - 1));
                         const double hi = j + 1 == ref.leaves ? 1e300 : double(bsp.split(j));
@@ -148,8 +147,8 @@ TEST(VlfConservative, EveryTriangleMeetingATileIsInItsLeavesWithItsFootprint) {
                                     EXPECT_LE((g >> shift) & 0xFFu, (f >> shift) & 0xFFu) << "triangle " << id;
                             }
                         }
-                        ASSERT_TRUE(found) << "triangle " << id << " missing from leaf " << j << " of tile " << c
-                                           << "," << r << " (trial " << trial << ")";
+                        ASSERT_TRUE(found) << "triangle " << id << " missing from leaf " << j << " of tile " << c << ","
+                                           << r << " (trial " << trial << ")";
                     }
                 }
         }
@@ -163,7 +162,8 @@ TEST(VlfConservative, RasteriserIncludesEveryTileAnEdgeClipsAtACorner) {
     // it at single points only: the 8-connected walk (Figure 1) includes them.
     const TileGrid grid = TileGrid::around(Box{{-1, -1, -1}, {1, 1, 1}}, 16);
     TileRasteriser raster(grid);
-    const Vec3d v[3] = {{grid.edge(4), grid.edge(4), 0.0}, {grid.edge(8), grid.edge(8), 0.0},
+    const Vec3d v[3] = {{grid.edge(4), grid.edge(4), 0.0},
+                        {grid.edge(8), grid.edge(8), 0.0},
                         {grid.edge(4), grid.edge(4), 1.0}};  // a segment in projection
     std::vector<std::pair<int, int>> tiles;
     raster.rasterise(v, [&](int c, int r) { tiles.emplace_back(c, r); });
@@ -185,8 +185,10 @@ TEST(TileBsp, GroupsHoldTheirEntries) {
         for (std::size_t k = 0; k < count; ++k) {
             const float lo = u(rng), hi = lo + 0.05f * u(rng);
             const std::uint32_t x0 = rng() % 256, y0 = rng() % 256;
-            const std::uint32_t x1 = std::min<std::uint32_t>(255, x0 + rng() % 20), y1 = std::min<std::uint32_t>(255, y0 + rng() % 20);
-            items[k] = DepthItem{std::uint32_t(k * 3), lo, hi, x0 | (y0 << 8) | ((255 - x1) << 16) | ((255 - y1) << 24)};
+            const std::uint32_t x1 = std::min<std::uint32_t>(255, x0 + rng() % 20),
+                                y1 = std::min<std::uint32_t>(255, y0 + rng() % 20);
+            items[k] =
+                DepthItem{std::uint32_t(k * 3), lo, hi, x0 | (y0 << 8) | ((255 - x1) << 16) | ((255 - y1) << 24)};
         }
         TileBspBuilder builder(4);
         std::vector<std::uint32_t> block;

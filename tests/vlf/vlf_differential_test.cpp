@@ -119,18 +119,18 @@ class VlfDifferential : public ::testing::TestWithParam<SceneCase> {};
 TEST_P(VlfDifferential, ExactAgreesWithEmbreeAndFastIsMeasured) { run_scene(GetParam()); }
 
 #ifndef BEAMTRACE_VLF_LONG
-INSTANTIATE_TEST_SUITE_P(
-    Scenes, VlfDifferential,
-    ::testing::Values(SceneCase{"random:20000"}, SceneCase{"random:2000"}, SceneCase{"tetra:5"},
-                      SceneCase{"sphereflake:2", false, 33}, SceneCase{"room", false, 9}, SceneCase{"room:7", false, 3},
-                      SceneCase{"bunny00.off", true}, SceneCase{"ChineseDragon-10kv.off", true}),
-    case_name);
+INSTANTIATE_TEST_SUITE_P(Scenes, VlfDifferential,
+                         ::testing::Values(SceneCase{"random:20000"}, SceneCase{"random:2000"}, SceneCase{"tetra:5"},
+                                           SceneCase{"sphereflake:2", false, 33}, SceneCase{"room", false, 9},
+                                           SceneCase{"room:7", false, 3}, SceneCase{"bunny00.off", true},
+                                           SceneCase{"ChineseDragon-10kv.off", true}),
+                         case_name);
 #else
 // The long run (ctest -L long): the default 513 directions everywhere, bigger scenes.
-INSTANTIATE_TEST_SUITE_P(
-    Scenes, VlfDifferential,
-    ::testing::Values(SceneCase{"random:100000", false, 513}, SceneCase{"tetra:6", false, 513},
-                      SceneCase{"sphereflake:3", false, 513}, SceneCase{"room", false, 513, false},
-                      SceneCase{"bunny00.off", true, 513}, SceneCase{"ChineseDragon-10kv.off", true, 513}),
-    case_name);
+INSTANTIATE_TEST_SUITE_P(Scenes, VlfDifferential,
+                         ::testing::Values(SceneCase{"random:100000", false, 513}, SceneCase{"tetra:6", false, 513},
+                                           SceneCase{"sphereflake:3", false, 513}, SceneCase{"room", false, 513, false},
+                                           SceneCase{"bunny00.off", true, 513},
+                                           SceneCase{"ChineseDragon-10kv.off", true, 513}),
+                         case_name);
 #endif

@@ -124,8 +124,10 @@ TEST(VlfDynamic, RandomUpdateSequencesEqualAFreshBuild) {
             }
             field.insert(out);
             out.clear();
-            if (step % 3 == 2) out = ids;
-            else field.insert(ids);
+            if (step % 3 == 2)
+                out = ids;
+            else
+                field.insert(ids);
 
             const Scene scene = current_scene(field);
             VisibilityField fresh(scene, options(l, n, d, bounds));
@@ -170,7 +172,7 @@ TEST(VlfDynamic, UpdatesCheckTheirInput) {
     const std::uint32_t a[1] = {3}, twice[2] = {4, 4}, far[1] = {50};
     EXPECT_THROW(field.remove(far), Error);
     EXPECT_THROW(field.remove(twice), Error);
-    EXPECT_THROW(field.insert(a), Error);  // still in
+    EXPECT_THROW(field.insert(a), Error);                // still in
     EXPECT_THROW(field.transform(a, Affine3{}), Error);  // must be removed first
     field.remove(a);
     EXPECT_FALSE(field.contains(3));

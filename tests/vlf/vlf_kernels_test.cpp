@@ -30,8 +30,10 @@ std::vector<Isa> simd_isas() {
 
 template <class T>
 std::uint64_t bits(T v) {
-    if constexpr (sizeof(T) == 8) return std::bit_cast<std::uint64_t>(v);
-    else return std::bit_cast<std::uint32_t>(v);
+    if constexpr (sizeof(T) == 8)
+        return std::bit_cast<std::uint64_t>(v);
+    else
+        return std::bit_cast<std::uint32_t>(v);
 }
 
 // Packets of awkward rays: random, along the axes (zero and -0 components), from far away,
@@ -54,14 +56,30 @@ std::vector<Packet16> awkward_packets(const Box& box, std::mt19937& rng, int cou
                 continue;
             }
             switch ((p + i) % 9) {
-                case 0: r.dir = Float3{0.0f, 0.0f, u(rng)}; break;
-                case 1: r.dir = Float3{-0.0f, u(rng), 0.0f}; break;
-                case 2: r.org.x = box.lower.x; break;
-                case 3: r.dir = Float3{0.0f, 0.0f, 0.0f}; break;
-                case 4: r.dir.y = std::nanf(""); break;
-                case 5: r.tnear = 0.3f * e.x; r.tfar = 0.5f * e.x; break;
-                case 6: r.tfar = -1.0f; break;
-                default: break;
+                case 0:
+                    r.dir = Float3{0.0f, 0.0f, u(rng)};
+                    break;
+                case 1:
+                    r.dir = Float3{-0.0f, u(rng), 0.0f};
+                    break;
+                case 2:
+                    r.org.x = box.lower.x;
+                    break;
+                case 3:
+                    r.dir = Float3{0.0f, 0.0f, 0.0f};
+                    break;
+                case 4:
+                    r.dir.y = std::nanf("");
+                    break;
+                case 5:
+                    r.tnear = 0.3f * e.x;
+                    r.tfar = 0.5f * e.x;
+                    break;
+                case 6:
+                    r.tfar = -1.0f;
+                    break;
+                default:
+                    break;
             }
             packet.set_ray(i, r);
         }
@@ -91,9 +109,16 @@ LookupCounts expect_same_lookups(VisibilityField::Impl& field, const std::vector
             const int i = __builtin_ctz(m);
             ++n.valid;
             EXPECT_EQ(a.psf[i], b.psf[i]);
-            for (auto [x, y] : {std::pair{a.ox[i], b.ox[i]}, {a.oy[i], b.oy[i]}, {a.oz[i], b.oz[i]},
-                                {a.dx[i], b.dx[i]}, {a.dy[i], b.dy[i]}, {a.dz[i], b.dz[i]}, {a.t0[i], b.t0[i]},
-                                {a.t1[i], b.t1[i]}, {a.inv_dx[i], b.inv_dx[i]}, {a.inv_dy[i], b.inv_dy[i]},
+            for (auto [x, y] : {std::pair{a.ox[i], b.ox[i]},
+                                {a.oy[i], b.oy[i]},
+                                {a.oz[i], b.oz[i]},
+                                {a.dx[i], b.dx[i]},
+                                {a.dy[i], b.dy[i]},
+                                {a.dz[i], b.dz[i]},
+                                {a.t0[i], b.t0[i]},
+                                {a.t1[i], b.t1[i]},
+                                {a.inv_dx[i], b.inv_dx[i]},
+                                {a.inv_dy[i], b.inv_dy[i]},
                                 {a.inv_dz[i], b.inv_dz[i]}})
                 EXPECT_EQ(bits(x), bits(y)) << "lane " << i;
             EXPECT_EQ(a.column[i], b.column[i]);
@@ -196,8 +221,8 @@ TEST(VlfKernels, PacketLookupNeverDropsARayThatGrazesTheBox) {
     for (Isa isa : simd_isas()) {
         SCOPED_TRACE(isa_name(isa));
         const LookupCounts n = expect_same_lookups(*field, packets, isa);
-        EXPECT_GT(n.valid, 20000u);          // rays that reach the box, many of them barely
-        EXPECT_GT(n.empty_packets, 1000u);   // packets that miss it (the SIMD early exit)
+        EXPECT_GT(n.valid, 20000u);         // rays that reach the box, many of them barely
+        EXPECT_GT(n.empty_packets, 1000u);  // packets that miss it (the SIMD early exit)
         EXPECT_LT(n.empty_packets, 5000u);
     }
 }
@@ -248,13 +273,14 @@ TEST(VlfKernels, EntryOcclusionEqualsScalar) {
             std::vector<std::uint32_t> ids(count), footprints(count);
             for (std::uint32_t k = 0; k < count; ++k) {
                 ids[k] = distinct ? std::uint32_t((trial * 7 + k * 13) % tris.size())  // distinct: count < 400 / 13
-                                  : std::uint32_t(rng() % 24);                           // repeats likely
+                                  : std::uint32_t(rng() % 24);                         // repeats likely
                 const std::uint32_t x0 = rng() % 256, y0 = rng() % 256;
                 const std::uint32_t x1 = x0 + rng() % (256 - x0), y1 = y0 + rng() % (256 - y0);
                 footprints[k] = x0 | (y0 << 8) | ((255 - x1) << 16) | ((255 - y1) << 24);
             }
             const FootprintLattice lattice{0.0, 0.0, 1.0};
-            const double x = double(rng() % 256), y = double(rng() % 256), size = double(rng() % 3 == 0 ? 255 : rng() % 40);
+            const double x = double(rng() % 256), y = double(rng() % 256),
+                         size = double(rng() % 3 == 0 ? 255 : rng() % 40);
             const std::uint32_t fp = lattice.ray(x, std::min(255.0, x + size), y, std::min(255.0, y + size));
             std::uint32_t a = kNoHit, b = kNoHit;
             const EntriesAnswer ea = scalar(ray, tris.data(), footprints.data(), ids.data(), count, fp, distinct, &a);
@@ -288,8 +314,8 @@ TEST(VlfKernels, EntryOcclusionReferenceIsTheFootprintFilteredAnyHit) {
         std::vector<std::uint32_t> ids(count), footprints(count, 0u);  // word 0: a box over the whole tile
         for (std::uint32_t k = 0; k < count; ++k) ids[k] = std::uint32_t(rng() % tris.size());
         std::uint32_t hit = kNoHit;
-        const EntriesAnswer a = occlude_entries_scalar(ray, tris.data(), footprints.data(), ids.data(), count, 0xFFFFFFFFu,
-                                                       false, &hit);
+        const EntriesAnswer a =
+            occlude_entries_scalar(ray, tris.data(), footprints.data(), ids.data(), count, 0xFFFFFFFFu, false, &hit);
         std::vector<std::uint32_t> distinct;
         bool expected = false;
         std::uint32_t first = kNoHit;
@@ -344,13 +370,15 @@ TEST(VlfKernels, EntryClosestHitEqualsScalar) {
                 footprints[k] = x0 | (y0 << 8) | ((255 - x1) << 16) | ((255 - y1) << 24);
             }
             const FootprintLattice lattice{0.0, 0.0, 1.0};
-            const double x = double(rng() % 256), y = double(rng() % 256), size = double(rng() % 3 == 0 ? 255 : rng() % 60);
+            const double x = double(rng() % 256), y = double(rng() % 256),
+                         size = double(rng() % 3 == 0 ? 255 : rng() % 60);
             const std::uint32_t fp = lattice.ray(x, std::min(255.0, x + size), y, std::min(255.0, y + size));
             // A tested list holding some of these ids (and others), sometimes nearly full.
             std::uint32_t list_a[32 + 16], list_b[32 + 16];  // + 16: TestedIds
             const std::uint32_t room = 32, listed = std::uint32_t(rng() % (trial % 5 == 0 ? 32 : 6));
             for (std::uint32_t k = 0; k < listed; ++k)
-                list_a[k] = list_b[k] = (count > 0 && k % 2 == 0) ? ids[rng() % count] : std::uint32_t(rng() % tris.size());
+                list_a[k] = list_b[k] =
+                    (count > 0 && k % 2 == 0) ? ids[rng() % count] : std::uint32_t(rng() % tris.size());
             Hit best_a, best_b;
             if (trial % 4 == 0) {  // a hit found earlier: only nearer ones may replace it
                 TriangleHit h;
@@ -362,8 +390,8 @@ TEST(VlfKernels, EntryClosestHitEqualsScalar) {
             }
             const std::uint32_t before = best_a.triangle;
             TestedIds ta{list_a, listed, room}, tb{list_b, listed, room};
-            const bool da =
-                closest_entries_scalar(ray, tris.data(), order.data(), footprints.data(), ids.data(), count, fp, ta, best_a);
+            const bool da = closest_entries_scalar(ray, tris.data(), order.data(), footprints.data(), ids.data(), count,
+                                                   fp, ta, best_a);
             const bool db = simd(ray, tris.data(), order.data(), footprints.data(), ids.data(), count, fp, tb, best_b);
             ASSERT_EQ(da, db) << "trial " << trial;
             ++compared;
@@ -406,7 +434,8 @@ TEST(VlfKernels, BatchCandidatesEqualScalar) {
                 ids[k] = distinct ? std::uint32_t(trial * 1000 + k) : std::uint32_t(rng() % 12);
                 // Clustered: entries of one group near one another (as the builder orders them).
                 const std::uint32_t cx = (trial % 3 == 0) ? rng() % 256 : (k / 16 * 37) % 240;
-                const std::uint32_t x0 = std::min<std::uint32_t>(255, cx + rng() % 16), y0 = (trial % 3 == 0) ? rng() % 256 : x0;
+                const std::uint32_t x0 = std::min<std::uint32_t>(255, cx + rng() % 16),
+                                    y0 = (trial % 3 == 0) ? rng() % 256 : x0;
                 const std::uint32_t x1 = x0 + rng() % (std::min<std::uint32_t>(256 - x0, 24)),
                                     y1 = y0 + rng() % (std::min<std::uint32_t>(256 - y0, 24));
                 footprints[k] = x0 | (y0 << 8) | ((255 - x1) << 16) | ((255 - y1) << 24);
@@ -421,13 +450,16 @@ TEST(VlfKernels, BatchCandidatesEqualScalar) {
             const std::uint32_t first = std::uint32_t(rng() % entries);
             const std::uint32_t count = std::uint32_t(rng() % (entries - first + 1));
             const FootprintLattice lattice{0.0, 0.0, 1.0};
-            const double x = double(rng() % 256), y = double(rng() % 256), size = double(rng() % 3 == 0 ? 255 : rng() % 40);
+            const double x = double(rng() % 256), y = double(rng() % 256),
+                         size = double(rng() % 3 == 0 ? 255 : rng() % 40);
             const std::uint32_t fp = lattice.ray(x, std::min(255.0, x + size), y, std::min(255.0, y + size));
             const std::uint32_t lane = std::uint32_t(rng() % 16);
             std::vector<std::uint32_t> ia(count + 16), la(count + 16), ib(count + 16), lb(count + 16);
             const std::uint32_t* g = trial % 4 == 1 ? nullptr : groups.data();  // a tile without groups
-            const std::uint32_t na = scalar(g, footprints.data(), ids.data(), first, count, fp, distinct, lane, ia.data(), la.data());
-            const std::uint32_t nb = simd(g, footprints.data(), ids.data(), first, count, fp, distinct, lane, ib.data(), lb.data());
+            const std::uint32_t na =
+                scalar(g, footprints.data(), ids.data(), first, count, fp, distinct, lane, ia.data(), la.data());
+            const std::uint32_t nb =
+                simd(g, footprints.data(), ids.data(), first, count, fp, distinct, lane, ib.data(), lb.data());
             ASSERT_EQ(na, nb) << "trial " << trial;
             for (std::uint32_t k = 0; k < na; ++k) {
                 ASSERT_EQ(ia[k], ib[k]) << "trial " << trial << " pair " << k;
@@ -459,10 +491,17 @@ TEST(VlfKernels, BatchTestEqualsScalarAndSingleRays) {
             w[i] = make_watertight_ray(rays[b * 16 + i]);
             const float o[3] = {w[i].org.x, w[i].org.y, w[i].org.z};
             TileRay r{};
-            r.kx = w[i].kx; r.ky = w[i].ky; r.kz = w[i].kz;
-            r.okx = o[w[i].kx]; r.oky = o[w[i].ky]; r.okz = o[w[i].kz];
-            r.sx = w[i].sx; r.sy = w[i].sy; r.sz = w[i].sz;
-            r.tnear = w[i].tnear; r.tfar = w[i].tfar;
+            r.kx = w[i].kx;
+            r.ky = w[i].ky;
+            r.kz = w[i].kz;
+            r.okx = o[w[i].kx];
+            r.oky = o[w[i].ky];
+            r.okz = o[w[i].kz];
+            r.sx = w[i].sx;
+            r.sy = w[i].sy;
+            r.sz = w[i].sz;
+            r.tnear = w[i].tnear;
+            r.tfar = w[i].tfar;
             r.slot = i;
             batch.set(i, r);
         }

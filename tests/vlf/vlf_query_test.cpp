@@ -85,8 +85,8 @@ TEST(VlfOptions, Validation) {
 
 TEST(VisibilityField, RandomSoupEqualsBruteForce) {
     const Scene s = test::random_soup(2000, 11);
-    for (Settings st : {Settings{9, 1, 0}, Settings{9, 16, 2}, Settings{33, 64, 4}, Settings{129, 128, 6},
-                        Settings{33, 7, 16}}) {
+    for (Settings st :
+         {Settings{9, 1, 0}, Settings{9, 16, 2}, Settings{33, 64, 4}, Settings{129, 128, 6}, Settings{33, 7, 16}}) {
         SCOPED_TRACE(testing::Message() << "l " << st.directions << " n " << st.tiles << " d " << st.depth);
         const VisibilityField field(s, opts(st.directions, st.tiles, st.depth));
         EXPECT_GT(expect_exact(field, s, test::random_rays(s.bounds(), 6000, 12)), 500);

@@ -26,8 +26,8 @@ TEST(RelativeTError, CountsOnlyRaysWhereBothSidesHit) {
     const std::vector<Hit> oracle = {hit_at(2.0f), hit_at(4.0f, 7), Hit{}, hit_at(1.0f), Hit{}};
     const std::vector<Hit> ours = {hit_at(2.0f), hit_at(5.0f, 3), hit_at(9.0f), Hit{}, Hit{}};
     const RelativeTError e = relative_t_error(ours, oracle);
-    EXPECT_EQ(e.rays, 2u);                 // rays 0 and 1; a hit against a miss is not a distance error
-    EXPECT_DOUBLE_EQ(e.max, 0.25);         // |5 - 4| / 4, whatever the triangles
+    EXPECT_EQ(e.rays, 2u);          // rays 0 and 1; a hit against a miss is not a distance error
+    EXPECT_DOUBLE_EQ(e.max, 0.25);  // |5 - 4| / 4, whatever the triangles
     EXPECT_DOUBLE_EQ(e.mean, 0.125);
 }
 
@@ -48,9 +48,7 @@ TEST(RelativeTError, OracleHitsAtZeroDistanceAreLeftOut) {
     EXPECT_NEAR(e.max, 0.1, 1e-6);
 }
 
-TEST(RelativeTError, SizesMustMatch) {
-    EXPECT_THROW(relative_t_error({Hit{}}, {}), Error);
-}
+TEST(RelativeTError, SizesMustMatch) { EXPECT_THROW(relative_t_error({Hit{}}, {}), Error); }
 
 TEST(OcclusionFractionMae, AveragesThePixelsFractionErrors) {
     // Pixel 5: 4 rays, 3 occluded for us, 1 for the oracle -> 0.5. Pixel 2: 2 rays, both agree -> 0.

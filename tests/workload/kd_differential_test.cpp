@@ -61,8 +61,9 @@ TEST_P(Differential, EnginesAgreeWithEmbree) {
             config.ao_rays = 4;
             const Workload w = make_workload(source, config);
             for (std::size_t i = 0; i < engines.size(); ++i)
-                test::expect_no_mismatch(check_against_oracle(*engines[i], w, 2),
-                                   engines[i]->name() + "#" + std::to_string(i) + " " + camera_name + " " + to_string(mode));
+                test::expect_no_mismatch(
+                    check_against_oracle(*engines[i], w, 2),
+                    engines[i]->name() + "#" + std::to_string(i) + " " + camera_name + " " + to_string(mode));
         }
     }
     // Incoherent rays from everywhere, closest hit and occlusion.
@@ -76,13 +77,13 @@ TEST_P(Differential, EnginesAgreeWithEmbree) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Scenes, Differential,
-    ::testing::Values(SceneCase{"random:20000"}, SceneCase{"random:2000"}, SceneCase{"tetra:5"},
-                      SceneCase{"sphereflake:2"}, SceneCase{"room"}, SceneCase{"room:7"},
-                      SceneCase{"bunny00.off", true}, SceneCase{"ChineseDragon-10kv.off", true}),
-    [](const ::testing::TestParamInfo<SceneCase>& info) {
-        std::string name;
-        for (char ch : info.param.spec) name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
-        return name;
-    });
+INSTANTIATE_TEST_SUITE_P(Scenes, Differential,
+                         ::testing::Values(SceneCase{"random:20000"}, SceneCase{"random:2000"}, SceneCase{"tetra:5"},
+                                           SceneCase{"sphereflake:2"}, SceneCase{"room"}, SceneCase{"room:7"},
+                                           SceneCase{"bunny00.off", true}, SceneCase{"ChineseDragon-10kv.off", true}),
+                         [](const ::testing::TestParamInfo<SceneCase>& info) {
+                             std::string name;
+                             for (char ch : info.param.spec)
+                                 name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+                             return name;
+                         });

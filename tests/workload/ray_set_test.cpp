@@ -191,10 +191,10 @@ TEST(Bench, MlrtaStatsHaveTheJsonContract) {
     const nlohmann::json j = to_json(bench_once("tetra:3", 64, engines));
     for (const std::string& name : engines) {
         const auto& s = j["engines"][name]["stats"];
-        for (const char* key : {"cells_per_packet", "ep_cells_per_packet", "xp_cells_per_packet",
-                                "intersections_per_packet", "packets", "tiles", "divergent_tiles", "single_rays",
-                                "blocked_tiles", "initial_tile", "split_factor", "min_tile", "frustum_test", "ep_search",
-                                "ep_triangles", "ep_resume", "stuck_stop", "stuck_retry", "kd_nodes"})
+        for (const char* key :
+             {"cells_per_packet", "ep_cells_per_packet", "xp_cells_per_packet", "intersections_per_packet", "packets",
+              "tiles", "divergent_tiles", "single_rays", "blocked_tiles", "initial_tile", "split_factor", "min_tile",
+              "frustum_test", "ep_search", "ep_triangles", "ep_resume", "stuck_stop", "stuck_retry", "kd_nodes"})
             EXPECT_TRUE(s.contains(key)) << name << " " << key;
         EXPECT_NEAR(s["cells_per_packet"].get<double>(),
                     s["ep_cells_per_packet"].get<double>() + s["xp_cells_per_packet"].get<double>(), 1e-9)

@@ -28,12 +28,14 @@ struct BenchArgs {
 
 std::string bench_header(const workload::BenchResult& r) {
     char buf[512];
-    std::snprintf(buf, sizeof buf, "scene %s (%zu triangles), mode %s, %dx%d, %d thread%s, %zu rays, best of timed runs\n",
+    std::snprintf(buf, sizeof buf,
+                  "scene %s (%zu triangles), mode %s, %dx%d, %d thread%s, %zu rays, best of timed runs\n",
                   r.scene.c_str(), r.triangles, workload::to_string(r.mode), r.width, r.height, r.threads,
                   r.threads == 1 ? "" : "s", r.rays);
     std::string header = buf;
     if (r.anchor) {
-        std::snprintf(buf, sizeof buf, "anchor: %s (%s context flag), %.3f Mrays/s: the fastest Embree engine of this run\n",
+        std::snprintf(buf, sizeof buf,
+                      "anchor: %s (%s context flag), %.3f Mrays/s: the fastest Embree engine of this run\n",
                       r.anchor->engine.c_str(), r.anchor->context_flag.c_str(), r.anchor->mrays_per_s);
         header += buf;
     } else {
@@ -52,31 +54,71 @@ std::function<void()> add_bench_command(CLI::App& app) {
     std::string names;
     for (const std::string& n : workload::engine_names()) names += (names.empty() ? "" : ", ") + n;
     cmd->add_option("--engines", args->engines, "comma-separated engines: " + names)->required();
-    cmd->add_option("--repeats", args->repeats, "timed runs per engine (the best is reported)")->capture_default_str()->check(CLI::Range(1, 1000));
-    cmd->add_option("--kd-traversal-cost", args->kd.traversal_cost, "kd-tree SAH: cost of a traversal step")->capture_default_str();
-    cmd->add_option("--kd-intersection-cost", args->kd.intersection_cost, "kd-tree SAH: cost of a triangle test")->capture_default_str();
-    cmd->add_option("--kd-empty-cell", args->kd.empty_cell_min_volume_fraction, "kd-tree rule 1: cut off empty cells of at least this fraction of the parent volume (0 = off)")->capture_default_str();
-    cmd->add_flag("!--kd-no-flat-cell", args->kd.flat_cell_rule, "kd-tree rule 2 off: no preference for planes covered by coplanar triangles");
-    cmd->add_option("--kd-max-depth", args->kd.max_depth, "kd-tree: deepest level (0 = automatic)")->capture_default_str();
-    cmd->add_option("--kd-tiny-cell", args->kd.tiny_cell_min_area_fraction, "kd-tree rule 3: no cells with less than this fraction of the scene box area (0 = off)")->capture_default_str();
-    cmd->add_option("--mlrta-tile", args->mlrta.initial_tile, "mlrta: initial tile size in pixels (ITS)")->capture_default_str();
-    cmd->add_option("--mlrta-split", args->mlrta.split_factor, "mlrta: sub-tiles per split (SF), 4 or 16")->capture_default_str();
-    cmd->add_option("--mlrta-min-tile", args->mlrta.min_tile, "mlrta: minimum tile size in pixels (MTS)")->capture_default_str();
-    cmd->add_option("--mlrta-frustum", args->mlrta_frustum, "mlrta: entry-point culling, inverse | direct")->capture_default_str();
-    cmd->add_option("--mlrta-ep-search", args->mlrta_ep_search, "mlrta: entry-point search order, top-down | bifurcation-stack (the same entry points with --no-mlrta-ep-triangles)")->capture_default_str();
-    cmd->add_flag("--mlrta-ep-triangles,!--no-mlrta-ep-triangles", args->mlrta.experimental.ep_triangles, "mlrta: entry-point searches of one-origin beams cull leaves by their triangles and stop at a triangle that blocks the whole beam (default on)");
-    cmd->add_flag("--mlrta-stuck-retry,!--no-mlrta-stuck-retry", args->mlrta.experimental.retry_stuck, "mlrta: with the stuck rule, a stuck tile is still split once unless it is the part of a stuck tile or its parts would be single packets (default on)");
-    cmd->add_flag("--mlrta-ep-resume,!--no-mlrta-ep-resume", args->mlrta.experimental.ep_resume, "mlrta: a sub-tile's entry-point search starts at the first potential leaf its parent's search found (default on; off: from the parent's entry point, as in the paper)");
-    cmd->add_flag("--mlrta-stuck-stop,!--no-mlrta-stuck-stop", args->mlrta.experimental.stop_when_stuck, "mlrta: stop splitting a tile whose entry point is its parent's (default on; off: the paper's schedule, split down to the minimum tile size)");
-    cmd->add_flag("--triangle-culling,!--no-triangle-culling", args->mlrta.experimental.triangle_culling, "kd16/mlrta: cull leaf triangles outside a one-origin packet's frustum before testing them (default on; --no-triangle-culling turns it off)");
-    cmd->add_option("--vlf-dirs", args->vlf.directions, "vlf: beam directions l (2 m^2 + 1: 33, 129, 513, ...)")->capture_default_str();
-    cmd->add_option("--vlf-tiles", args->vlf.tiles, "vlf: tiles per side n of each parallel subfield")->capture_default_str();
-    cmd->add_option("--vlf-depth", args->vlf.depth, "vlf: tile-BSP depth d (0 = one leaf per tile)")->capture_default_str();
-    cmd->add_flag("--vlf-eager", args->vlf.eager, "vlf: build every parallel subfield before tracing (default: on first use)");
-    cmd->add_option("--vlf-order", args->vlf_order, "vlf: trace rays as given (input), binned by PSF (psf), or binned for occlusion rays only (auto)")->capture_default_str();
-    cmd->add_option("--ao-dirs", args->ao_dirs, "ao mode: random (stratified, cosine weighted) | psf (VLF-RT's --vlf-dirs directions)")->capture_default_str();
-    cmd->add_flag("--anchor-engines,!--no-anchor-engines", args->anchor_engines, "time every Embree engine (embree1, embree16, embree-stream) even when --engines leaves it out, so that the anchor, the fastest of them, is Embree at its best (default on; off: the anchor is the fastest Embree engine listed, if any)");
-    cmd->add_flag("--embree-robust,!--embree-non-robust", args->embree_robust, "Embree engines: build with RTC_SCENE_FLAG_ROBUST, the watertight guarantee our engines give (default on; --embree-non-robust measures Embree's faster mode)");
+    cmd->add_option("--repeats", args->repeats, "timed runs per engine (the best is reported)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1000));
+    cmd->add_option("--kd-traversal-cost", args->kd.traversal_cost, "kd-tree SAH: cost of a traversal step")
+        ->capture_default_str();
+    cmd->add_option("--kd-intersection-cost", args->kd.intersection_cost, "kd-tree SAH: cost of a triangle test")
+        ->capture_default_str();
+    cmd->add_option("--kd-empty-cell", args->kd.empty_cell_min_volume_fraction,
+                    "kd-tree rule 1: cut off empty cells of at least this fraction of the parent volume (0 = off)")
+        ->capture_default_str();
+    cmd->add_flag("!--kd-no-flat-cell", args->kd.flat_cell_rule,
+                  "kd-tree rule 2 off: no preference for planes covered by coplanar triangles");
+    cmd->add_option("--kd-max-depth", args->kd.max_depth, "kd-tree: deepest level (0 = automatic)")
+        ->capture_default_str();
+    cmd->add_option("--kd-tiny-cell", args->kd.tiny_cell_min_area_fraction,
+                    "kd-tree rule 3: no cells with less than this fraction of the scene box area (0 = off)")
+        ->capture_default_str();
+    cmd->add_option("--mlrta-tile", args->mlrta.initial_tile, "mlrta: initial tile size in pixels (ITS)")
+        ->capture_default_str();
+    cmd->add_option("--mlrta-split", args->mlrta.split_factor, "mlrta: sub-tiles per split (SF), 4 or 16")
+        ->capture_default_str();
+    cmd->add_option("--mlrta-min-tile", args->mlrta.min_tile, "mlrta: minimum tile size in pixels (MTS)")
+        ->capture_default_str();
+    cmd->add_option("--mlrta-frustum", args->mlrta_frustum, "mlrta: entry-point culling, inverse | direct")
+        ->capture_default_str();
+    cmd->add_option("--mlrta-ep-search", args->mlrta_ep_search,
+                    "mlrta: entry-point search order, top-down | bifurcation-stack (the same entry points with "
+                    "--no-mlrta-ep-triangles)")
+        ->capture_default_str();
+    cmd->add_flag("--mlrta-ep-triangles,!--no-mlrta-ep-triangles", args->mlrta.experimental.ep_triangles,
+                  "mlrta: entry-point searches of one-origin beams cull leaves by their triangles and stop at a "
+                  "triangle that blocks the whole beam (default on)");
+    cmd->add_flag("--mlrta-stuck-retry,!--no-mlrta-stuck-retry", args->mlrta.experimental.retry_stuck,
+                  "mlrta: with the stuck rule, a stuck tile is still split once unless it is the part of a stuck tile "
+                  "or its parts would be single packets (default on)");
+    cmd->add_flag("--mlrta-ep-resume,!--no-mlrta-ep-resume", args->mlrta.experimental.ep_resume,
+                  "mlrta: a sub-tile's entry-point search starts at the first potential leaf its parent's search found "
+                  "(default on; off: from the parent's entry point, as in the paper)");
+    cmd->add_flag("--mlrta-stuck-stop,!--no-mlrta-stuck-stop", args->mlrta.experimental.stop_when_stuck,
+                  "mlrta: stop splitting a tile whose entry point is its parent's (default on; off: the paper's "
+                  "schedule, split down to the minimum tile size)");
+    cmd->add_flag("--triangle-culling,!--no-triangle-culling", args->mlrta.experimental.triangle_culling,
+                  "kd16/mlrta: cull leaf triangles outside a one-origin packet's frustum before testing them (default "
+                  "on; --no-triangle-culling turns it off)");
+    cmd->add_option("--vlf-dirs", args->vlf.directions, "vlf: beam directions l (2 m^2 + 1: 33, 129, 513, ...)")
+        ->capture_default_str();
+    cmd->add_option("--vlf-tiles", args->vlf.tiles, "vlf: tiles per side n of each parallel subfield")
+        ->capture_default_str();
+    cmd->add_option("--vlf-depth", args->vlf.depth, "vlf: tile-BSP depth d (0 = one leaf per tile)")
+        ->capture_default_str();
+    cmd->add_flag("--vlf-eager", args->vlf.eager,
+                  "vlf: build every parallel subfield before tracing (default: on first use)");
+    cmd->add_option("--vlf-order", args->vlf_order,
+                    "vlf: trace rays as given (input), binned by PSF (psf), or binned for occlusion rays only (auto)")
+        ->capture_default_str();
+    cmd->add_option("--ao-dirs", args->ao_dirs,
+                    "ao mode: random (stratified, cosine weighted) | psf (VLF-RT's --vlf-dirs directions)")
+        ->capture_default_str();
+    cmd->add_flag("--anchor-engines,!--no-anchor-engines", args->anchor_engines,
+                  "time every Embree engine (embree1, embree16, embree-stream) even when --engines leaves it out, so "
+                  "that the anchor, the fastest of them, is Embree at its best (default on; off: the anchor is the "
+                  "fastest Embree engine listed, if any)");
+    cmd->add_flag("--embree-robust,!--embree-non-robust", args->embree_robust,
+                  "Embree engines: build with RTC_SCENE_FLAG_ROBUST, the watertight guarantee our engines give "
+                  "(default on; --embree-non-robust measures Embree's faster mode)");
     cmd->add_option("--json", args->json, "write the results as JSON to this file");
     cmd->add_option("--markdown", args->markdown, "write the table as Markdown to this file");
     return [args] {
@@ -91,10 +133,12 @@ std::function<void()> add_bench_command(CLI::App& app) {
         bo.engine_options.embree_robust = args->embree_robust;
         if (args->mlrta_frustum != "inverse" && args->mlrta_frustum != "direct")
             throw Error("--mlrta-frustum must be inverse or direct, not '" + args->mlrta_frustum + "'");
-        args->mlrta.experimental.frustum_test = args->mlrta_frustum == "direct" ? FrustumTest::direct : FrustumTest::inverse;
+        args->mlrta.experimental.frustum_test =
+            args->mlrta_frustum == "direct" ? FrustumTest::direct : FrustumTest::inverse;
         if (args->mlrta_ep_search != "top-down" && args->mlrta_ep_search != "bifurcation-stack")
             throw Error("--mlrta-ep-search must be top-down or bifurcation-stack, not '" + args->mlrta_ep_search + "'");
-        args->mlrta.experimental.ep_search = args->mlrta_ep_search == "top-down" ? EpSearch::top_down : EpSearch::bifurcation_stack;
+        args->mlrta.experimental.ep_search =
+            args->mlrta_ep_search == "top-down" ? EpSearch::top_down : EpSearch::bifurcation_stack;
         args->mlrta.validate();
         bo.engine_options.mlrta = args->mlrta;
         KdBuildRules kd = args->kd;

@@ -20,8 +20,10 @@ struct ExportArgs {
 std::function<void()> add_export_command(CLI::App& app) {
     auto args = std::make_shared<ExportArgs>();
     CLI::App* cmd = app.add_subcommand(
-        "export", "write a scene as an OFF file (same triangles, same ids) and print the camera the other commands use for it");
-    cmd->add_option("--scene", args->scene, "scene: a mesh file or a generator\n" + scenes::scene_spec_help())->required();
+        "export",
+        "write a scene as an OFF file (same triangles, same ids) and print the camera the other commands use for it");
+    cmd->add_option("--scene", args->scene, "scene: a mesh file or a generator\n" + scenes::scene_spec_help())
+        ->required();
     cmd->add_option("--out", args->out, "OFF file to write")->required();
     return [args] {
         const scenes::SceneSource source = scenes::load_scene(args->scene);

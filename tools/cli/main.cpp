@@ -14,10 +14,15 @@
 namespace beamtrace::cli {
 
 void add_scene_options(CLI::App& command, SceneOptions& o) {
-    command.add_option("--scene", o.scene, "scene: a mesh file or a generator\n" + scenes::scene_spec_help())->required();
-    command.add_option("--camera", o.camera, "EX,EY,EZ,AX,AY,AZ,FOVY: eye, look-at point, vertical field of view in degrees (default: the scene's own view)");
+    command.add_option("--scene", o.scene, "scene: a mesh file or a generator\n" + scenes::scene_spec_help())
+        ->required();
+    command.add_option("--camera", o.camera,
+                       "EX,EY,EZ,AX,AY,AZ,FOVY: eye, look-at point, vertical field of view in degrees (default: the "
+                       "scene's own view)");
     command.add_option("--width", o.width, "image width in pixels")->capture_default_str()->check(CLI::Range(1, 65536));
-    command.add_option("--height", o.height, "image height in pixels")->capture_default_str()->check(CLI::Range(1, 65536));
+    command.add_option("--height", o.height, "image height in pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 65536));
     command.add_option("--threads", o.threads, "worker threads")->capture_default_str()->check(CLI::Range(1, 1024));
 }
 
@@ -39,9 +44,12 @@ void write_text(const std::string& path, const std::string& text) {
 }
 
 void add_ray_options(CLI::App& command, RayOptions& o) {
-    command.add_option("--light", o.light, "X,Y,Z point light of shadow rays (default: halfway between camera and scene centre)");
+    command.add_option("--light", o.light,
+                       "X,Y,Z point light of shadow rays (default: halfway between camera and scene centre)");
     command.add_option("--mode", o.mode, "primary | shadow | ao")->capture_default_str();
-    command.add_option("--ao-rays", o.ao_rays, "occlusion rays per pixel in ao mode")->capture_default_str()->check(CLI::Range(1, 4096));
+    command.add_option("--ao-rays", o.ao_rays, "occlusion rays per pixel in ao mode")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 4096));
 }
 
 workload::WorkloadConfig workload_config(const SceneOptions& scene, const RayOptions& rays) {
@@ -76,10 +84,14 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        if (app.got_subcommand("bench")) bench();
-        else if (app.got_subcommand("trade")) trade();
-        else if (app.got_subcommand("export")) export_scene();
-        else render();
+        if (app.got_subcommand("bench"))
+            bench();
+        else if (app.got_subcommand("trade"))
+            trade();
+        else if (app.got_subcommand("export"))
+            export_scene();
+        else
+            render();
         return 0;
     } catch (const beamtrace::Error& e) {
         std::fprintf(stderr, "beamtrace: error: %s\n", e.what());

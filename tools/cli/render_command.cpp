@@ -25,10 +25,16 @@ std::function<void()> add_render_command(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("render", "write a PNG picture of what one engine sees");
     add_scene_options(*cmd, args->scene);
     cmd->add_option("--engine", args->engine, "engine that traces the picture")->capture_default_str();
-    cmd->add_option("--shade", args->shade, "normal | depth | ao | complexity (mlrta: subtree size below each tile's entry point)")->capture_default_str();
-    cmd->add_option("--ao-rays", args->ao_rays, "occlusion rays per pixel for --shade ao")->capture_default_str()->check(CLI::Range(1, 4096));
-    cmd->add_option("--ao-dirs", args->ao_dirs, "--shade ao: random | psf (VLF-RT's --vlf-dirs directions)")->capture_default_str();
-    cmd->add_option("--vlf-dirs", args->vlf_dirs, "vlf: beam directions l (2 m^2 + 1: 33, 129, 513, ...)")->capture_default_str();
+    cmd->add_option("--shade", args->shade,
+                    "normal | depth | ao | complexity (mlrta: subtree size below each tile's entry point)")
+        ->capture_default_str();
+    cmd->add_option("--ao-rays", args->ao_rays, "occlusion rays per pixel for --shade ao")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 4096));
+    cmd->add_option("--ao-dirs", args->ao_dirs, "--shade ao: random | psf (VLF-RT's --vlf-dirs directions)")
+        ->capture_default_str();
+    cmd->add_option("--vlf-dirs", args->vlf_dirs, "vlf: beam directions l (2 m^2 + 1: 33, 129, 513, ...)")
+        ->capture_default_str();
     cmd->add_option("--out", args->out, "PNG file to write")->required();
     return [args] {
         workload::PictureOptions po;

@@ -48,7 +48,8 @@ std::string trade_header(const workload::TradeResult& r) {
                   r.threads == 1 ? "" : "s", r.rays, r.repeats, r.min_seconds);
     std::string header = buf;
     if (const workload::TradeRow* a = r.anchor()) {
-        std::snprintf(buf, sizeof buf, "anchor: %s, the fastest Embree engine (%.2fx embree16); %zu reference%s on the Pareto front\n",
+        std::snprintf(buf, sizeof buf,
+                      "anchor: %s, the fastest Embree engine (%.2fx embree16); %zu reference%s on the Pareto front\n",
                       a->setting.engine.c_str(), a->x_reference, r.references_on_front(),
                       r.references_on_front() == 1 ? "" : "s");
         header += buf;
@@ -69,15 +70,21 @@ std::function<void()> add_trade_command(CLI::App& app) {
     for (const std::string& n : workload::engine_names())
         if (n != "brute") names += (names.empty() ? "" : ", ") + n;
     cmd->add_option("--engines", args->engines, "comma-separated engines to sweep (default: all of " + names + ")");
-    cmd->add_option("--repeats", args->repeats, "timed passes per setting at least (the best is reported)")->capture_default_str()->check(CLI::Range(1, 1000));
+    cmd->add_option("--repeats", args->repeats, "timed passes per setting at least (the best is reported)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1000));
     cmd->add_option("--min-seconds", args->min_seconds,
                     "keep timing a setting until its passes and embree16's took this long (at most 1000 passes)")
-        ->capture_default_str()->check(CLI::Range(0.0, 3600.0));
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 3600.0));
     cmd->add_option("--vlf-budget", args->vlf_budget_millions,
                     "skip VLF-RT settings whose rays need more than this many million triangle-PSFs "
                     "(triangles x parallel subfields to build)")
-        ->capture_default_str()->check(CLI::PositiveNumber);
-    cmd->add_flag("--anchor-engines,!--no-anchor-engines", args->anchor_engines, "sweep every Embree engine even when --engines leaves it out, so that the anchor is Embree at its best (default on)");
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_flag("--anchor-engines,!--no-anchor-engines", args->anchor_engines,
+                  "sweep every Embree engine even when --engines leaves it out, so that the anchor is Embree at its "
+                  "best (default on)");
     cmd->add_option("--out", args->out, "folder for trade.csv and trade.png")->capture_default_str();
     return [args] {
         const workload::WorkloadConfig wc = workload_config(args->scene, args->rays);

@@ -175,7 +175,8 @@ std::vector<float> numbers(const std::string& text, std::size_t count, const cha
     std::vector<float> v;
     std::stringstream s(text);
     for (std::string item; std::getline(s, item, ',');) v.push_back(std::stof(item));
-    if (v.size() != count) throw std::runtime_error(std::string(what) + ": expected " + std::to_string(count) + " numbers");
+    if (v.size() != count)
+        throw std::runtime_error(std::string(what) + ": expected " + std::to_string(count) + " numbers");
     return v;
 }
 
@@ -207,15 +208,33 @@ std::vector<Ray> camera_rays(const Camera& c, int width, int height) {
 }
 
 void set_ray(RTCRay& r, const Ray& in) {
-    r.org_x = in.org.x; r.org_y = in.org.y; r.org_z = in.org.z;
-    r.dir_x = in.dir.x; r.dir_y = in.dir.y; r.dir_z = in.dir.z;
-    r.tnear = 0.0f; r.tfar = in.tfar; r.time = 0.0f; r.mask = 0xFFFFFFFFu; r.id = 0; r.flags = 0;
+    r.org_x = in.org.x;
+    r.org_y = in.org.y;
+    r.org_z = in.org.z;
+    r.dir_x = in.dir.x;
+    r.dir_y = in.dir.y;
+    r.dir_z = in.dir.z;
+    r.tnear = 0.0f;
+    r.tfar = in.tfar;
+    r.time = 0.0f;
+    r.mask = 0xFFFFFFFFu;
+    r.id = 0;
+    r.flags = 0;
 }
 template <class R16>
 void set_lane(R16& r, int i, const Ray& in) {
-    r.org_x[i] = in.org.x; r.org_y[i] = in.org.y; r.org_z[i] = in.org.z;
-    r.dir_x[i] = in.dir.x; r.dir_y[i] = in.dir.y; r.dir_z[i] = in.dir.z;
-    r.tnear[i] = 0.0f; r.tfar[i] = in.tfar; r.time[i] = 0.0f; r.mask[i] = 0xFFFFFFFFu; r.id[i] = unsigned(i); r.flags[i] = 0;
+    r.org_x[i] = in.org.x;
+    r.org_y[i] = in.org.y;
+    r.org_z[i] = in.org.z;
+    r.dir_x[i] = in.dir.x;
+    r.dir_y[i] = in.dir.y;
+    r.dir_z[i] = in.dir.z;
+    r.tnear[i] = 0.0f;
+    r.tfar[i] = in.tfar;
+    r.time[i] = 0.0f;
+    r.mask[i] = 0xFFFFFFFFu;
+    r.id[i] = unsigned(i);
+    r.flags[i] = 0;
 }
 
 struct alignas(64) Valid16 {
@@ -264,7 +283,8 @@ public:
     std::vector<Timing> time(int repeats, Answers& answers) {
         std::vector<Timing> out;
         for (const char* layout : {"packet16", "single", "stream"})
-            for (RTCIntersectContextFlags flag : {RTC_INTERSECT_CONTEXT_FLAG_COHERENT, RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT}) {
+            for (RTCIntersectContextFlags flag :
+                 {RTC_INTERSECT_CONTEXT_FLAG_COHERENT, RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT}) {
                 double best = 1e300;
                 for (int r = 0; r < repeats; ++r) {
                     fill(layout);  // untimed
@@ -277,7 +297,8 @@ public:
                 }
                 out.push_back({layout, flag == RTC_INTERSECT_CONTEXT_FLAG_COHERENT ? "coherent" : "incoherent",
                                double(count()) / best / 1e6});
-                if (std::string(layout) == "packet16" && flag == RTC_INTERSECT_CONTEXT_FLAG_COHERENT) answers = read16();
+                if (std::string(layout) == "packet16" && flag == RTC_INTERSECT_CONTEXT_FLAG_COHERENT)
+                    answers = read16();
             }
         return out;
     }
@@ -326,8 +347,10 @@ private:
             for (int i = 0; i < 16; ++i) {
                 if (!valid_[k].lane[i]) continue;
                 const std::size_t slot = packets_[k] * 16 + std::size_t(i);
-                if (closest_) a[slot] = hit16_[k].hit.geomID[i] == RTC_INVALID_GEOMETRY_ID ? kMiss : hit16_[k].hit.primID[i];
-                else a[slot] = ray16_[k].tfar[i] == -std::numeric_limits<float>::infinity() ? 1u : 0u;
+                if (closest_)
+                    a[slot] = hit16_[k].hit.geomID[i] == RTC_INVALID_GEOMETRY_ID ? kMiss : hit16_[k].hit.primID[i];
+                else
+                    a[slot] = ray16_[k].tfar[i] == -std::numeric_limits<float>::infinity() ? 1u : 0u;
             }
         return a;
     }
@@ -367,18 +390,28 @@ Options parse(int argc, char** argv) {
             if (i + 1 >= argc) throw std::runtime_error(a + " needs a value");
             return argv[++i];
         };
-        if (a == "--scene") o.scene = value();
-        else if (a == "--camera") o.camera = value();
-        else if (a == "--light") o.light = value();
-        else if (a == "--width") o.width = std::stoi(value());
-        else if (a == "--height") o.height = std::stoi(value());
-        else if (a == "--repeats") o.repeats = std::stoi(value());
-        else if (a == "--json") o.json = value();
-        else if (a == "--dump") o.dump = value();
-        else if (a == "--non-robust") o.robust = false;
+        if (a == "--scene")
+            o.scene = value();
+        else if (a == "--camera")
+            o.camera = value();
+        else if (a == "--light")
+            o.light = value();
+        else if (a == "--width")
+            o.width = std::stoi(value());
+        else if (a == "--height")
+            o.height = std::stoi(value());
+        else if (a == "--repeats")
+            o.repeats = std::stoi(value());
+        else if (a == "--json")
+            o.json = value();
+        else if (a == "--dump")
+            o.dump = value();
+        else if (a == "--non-robust")
+            o.robust = false;
         else if (a == "--help" || a == "-h") {
-            std::printf("usage: embree-direct --scene FILE.off [--camera EX,EY,EZ,AX,AY,AZ,FOVY] [--light X,Y,Z]\n"
-                        "       [--width 1024] [--height 1024] [--repeats 5] [--non-robust] [--json FILE] [--dump PREFIX]\n");
+            std::printf(
+                "usage: embree-direct --scene FILE.off [--camera EX,EY,EZ,AX,AY,AZ,FOVY] [--light X,Y,Z]\n"
+                "       [--width 1024] [--height 1024] [--repeats 5] [--non-robust] [--json FILE] [--dump PREFIX]\n");
             std::exit(0);
         } else {
             throw std::runtime_error("unknown option '" + a + "' (--help lists them)");
@@ -425,9 +458,9 @@ int run(int argc, char** argv) {
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), mesh.vertices.size()));
+                                                           3 * sizeof(float), mesh.vertices.size()));
     auto* ib = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                  3 * sizeof(std::uint32_t), mesh.indices.size() / 3));
+                                                                   3 * sizeof(std::uint32_t), mesh.indices.size() / 3));
     if (!vb || !ib) throw std::runtime_error("Embree could not allocate the geometry buffers");
     std::memcpy(vb, mesh.vertices.data(), mesh.vertices.size() * sizeof(V3));
     std::memcpy(ib, mesh.indices.data(), mesh.indices.size() * sizeof(std::uint32_t));
@@ -484,9 +517,11 @@ int run(int argc, char** argv) {
                 camera.at.y, camera.at.z, camera.fovy, light.x, light.y, light.z);
     std::printf("%-8s %-9s %-11s %10s %8s\n", "mode", "layout", "flag", "Mrays/s", "rays");
     for (const Timing& t : primary_times)
-        std::printf("%-8s %-9s %-11s %10.3f %8zu\n", "primary", t.layout.c_str(), t.flag.c_str(), t.mrays, primary_tracer.count());
+        std::printf("%-8s %-9s %-11s %10.3f %8zu\n", "primary", t.layout.c_str(), t.flag.c_str(), t.mrays,
+                    primary_tracer.count());
     for (const Timing& t : shadow_times)
-        std::printf("%-8s %-9s %-11s %10.3f %8zu\n", "shadow", t.layout.c_str(), t.flag.c_str(), t.mrays, shadow_tracer.count());
+        std::printf("%-8s %-9s %-11s %10.3f %8zu\n", "shadow", t.layout.c_str(), t.flag.c_str(), t.mrays,
+                    shadow_tracer.count());
     std::printf("primary hits %zu, shadow rays blocked %zu\n", hits, blocked);
 
     if (!o.json.empty()) {
@@ -498,8 +533,8 @@ int run(int argc, char** argv) {
         for (const auto* list : {&primary_times, &shadow_times})
             for (const Timing& t : *list) {
                 out << (first ? "" : ",\n") << "    {\"mode\": \"" << (list == &primary_times ? "primary" : "shadow")
-                    << "\", \"layout\": \"" << t.layout << "\", \"flag\": \"" << t.flag << "\", \"mrays_per_s\": " << t.mrays
-                    << "}";
+                    << "\", \"layout\": \"" << t.layout << "\", \"flag\": \"" << t.flag
+                    << "\", \"mrays_per_s\": " << t.mrays << "}";
                 first = false;
             }
         out << "\n  ]\n}\n";

@@ -18,9 +18,12 @@ constexpr EmbreeContextFlag kFlags[] = {EmbreeContextFlag::coherent, EmbreeConte
 
 const char* engine_name(EmbreeLayout layout) {
     switch (layout) {
-        case EmbreeLayout::single: return "embree1";
-        case EmbreeLayout::packet16: return "embree16";
-        case EmbreeLayout::stream: return "embree-stream";
+        case EmbreeLayout::single:
+            return "embree1";
+        case EmbreeLayout::packet16:
+            return "embree16";
+        case EmbreeLayout::stream:
+            return "embree-stream";
     }
     return "?";
 }
@@ -32,8 +35,10 @@ void trace_all(EmbreeNativeRays& native, EmbreeContextFlag flag, int threads) {
 
 void answers_of(const EmbreeNativeRays& native, bool closest, EngineAnswers& answers) {
     answers.form = EngineAnswers::Form::slots;
-    if (closest) native.hits(answers.hits);
-    else native.occluded(answers.occluded);
+    if (closest)
+        native.hits(answers.hits);
+    else
+        native.occluded(answers.occluded);
 }
 
 class EmbreeEngine : public Engine {
@@ -80,11 +85,12 @@ public:
     }
 
     nlohmann::json stats(const RaySet& rays) const override {
-        nlohmann::json j = {{"embree_triangles", oracle_->embree_triangle_count()},
-                            {"robust", oracle_->robust()},
-                            {"layout", layout_ == EmbreeLayout::single     ? "RTCRayHit per ray, rtcIntersect1"
-                                       : layout_ == EmbreeLayout::packet16 ? "RTCRayHit16 per 4x4 packet, rtcIntersect16"
-                                                                           : "RTCRayHit array, rtcIntersect1M"}};
+        nlohmann::json j = {
+            {"embree_triangles", oracle_->embree_triangle_count()},
+            {"robust", oracle_->robust()},
+            {"layout", layout_ == EmbreeLayout::single     ? "RTCRayHit per ray, rtcIntersect1"
+                       : layout_ == EmbreeLayout::packet16 ? "RTCRayHit16 per 4x4 packet, rtcIntersect16"
+                                                           : "RTCRayHit array, rtcIntersect1M"}};
         if (rays.mode != Mode::primary) {
             j["layout"] = layout_ == EmbreeLayout::single     ? "RTCRay per ray, rtcOccluded1"
                           : layout_ == EmbreeLayout::packet16 ? "RTCRay16 per 4x4 packet, rtcOccluded16"
@@ -106,6 +112,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Engine> make_embree_engine(oracle::EmbreeLayout layout) { return std::make_unique<EmbreeEngine>(layout); }
+std::unique_ptr<Engine> make_embree_engine(oracle::EmbreeLayout layout) {
+    return std::make_unique<EmbreeEngine>(layout);
+}
 
 }  // namespace beamtrace::workload

@@ -37,12 +37,12 @@ struct EngineOptions {
 // hit, not occluded.
 struct EngineAnswers {
     enum class Form { slots, packets, rays };
-    Form form = Form::slots;                        // which form holds the last answers
-    std::vector<Hit> hits;                          // per slot: closest hits
-    std::vector<std::uint8_t> occluded;             // per slot: 1 = occluded
-    std::vector<PacketHits16> packet_hits;          // per packet, as the library's packet queries give them
-    std::vector<std::uint32_t> packet_occluded;     // per packet: bit i = lane i occluded
-    std::vector<Hit> ray_hits;                      // per active ray, in slot order
+    Form form = Form::slots;                     // which form holds the last answers
+    std::vector<Hit> hits;                       // per slot: closest hits
+    std::vector<std::uint8_t> occluded;          // per slot: 1 = occluded
+    std::vector<PacketHits16> packet_hits;       // per packet, as the library's packet queries give them
+    std::vector<std::uint32_t> packet_occluded;  // per packet: bit i = lane i occluded
+    std::vector<Hit> ray_hits;                   // per active ray, in slot order
     std::vector<std::uint8_t> ray_occluded;
     const std::vector<std::uint32_t>* ray_slots = nullptr;  // the slot of each active ray (the engine's)
 

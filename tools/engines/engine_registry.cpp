@@ -5,7 +5,8 @@
 namespace beamtrace::workload {
 
 const std::vector<std::string>& engine_names() {
-    static const std::vector<std::string> names = {"embree1", "embree16", "embree-stream", "brute", "kd1", "kd16", "mlrta", "vlf", "vlf-fast"};
+    static const std::vector<std::string> names = {"embree1", "embree16", "embree-stream", "brute",   "kd1",
+                                                   "kd16",    "mlrta",    "vlf",           "vlf-fast"};
     return names;
 }
 

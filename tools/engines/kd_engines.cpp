@@ -107,7 +107,8 @@ public:
     void build(const Scene& scene, const EngineOptions& options) override {
         KdExperimental x;
         x.triangle_culling = options.mlrta.experimental.triangle_culling;
-        tree_ = std::make_unique<KdTree>(KdTree::build(scene, options.kd_rules, options.build_progress).with_experimental(x));
+        tree_ = std::make_unique<KdTree>(
+            KdTree::build(scene, options.kd_rules, options.build_progress).with_experimental(x));
         tree_->prepare_packet_queries();
         settings_ = options.mlrta;
     }
@@ -159,15 +160,19 @@ public:
     // The reference of the tests: every triangle against every active ray (not an accelerator).
     void trace(const RaySet& rays, bool closest, EngineAnswers& a, int threads) const override {
         a.form = EngineAnswers::Form::slots;
-        if (closest) a.hits.assign(rays.slots(), Hit{});
-        else a.occluded.assign(rays.slots(), 0);
+        if (closest)
+            a.hits.assign(rays.slots(), Hit{});
+        else
+            a.occluded.assign(rays.slots(), 0);
         for_packet_ranges(rays.packets.size(), threads, [&](std::size_t b, std::size_t e) {
             for (std::size_t p = b; p < e; ++p)
                 for (std::uint32_t m = rays.packets[p].active & 0xFFFFu; m; m &= m - 1) {
                     const int i = __builtin_ctz(m);
                     const Ray r = rays.packets[p].ray(i);
-                    if (closest) a.hits[p * 16 + std::size_t(i)] = intersect_brute_force(*scene_, r);
-                    else a.occluded[p * 16 + std::size_t(i)] = occluded_brute_force(*scene_, r);
+                    if (closest)
+                        a.hits[p * 16 + std::size_t(i)] = intersect_brute_force(*scene_, r);
+                    else
+                        a.occluded[p * 16 + std::size_t(i)] = occluded_brute_force(*scene_, r);
                 }
         });
     }

@@ -44,7 +44,8 @@ public:
         QueryCounters c;
         EngineAnswers a;
         query(rays, rays.mode == Mode::primary, a, QueryOptions{1, &c});
-        nlohmann::json j = packet_counters_json(c, tree_->stats().nodes, mlrta_->settings().experimental.triangle_culling);
+        nlohmann::json j =
+            packet_counters_json(c, tree_->stats().nodes, mlrta_->settings().experimental.triangle_culling);
         j.update(mlrta_settings_json(mlrta_->settings()));
         return j;
     }
@@ -61,7 +62,9 @@ public:
     }
 
 private:
-    static PacketGrid grid(const RaySet& rays) { return PacketGrid{rays.packets.data(), rays.packets_x, rays.packets_y}; }
+    static PacketGrid grid(const RaySet& rays) {
+        return PacketGrid{rays.packets.data(), rays.packets_x, rays.packets_y};
+    }
 
     // Tiles of beams when the packets form an image; packet by packet otherwise.
     void query(const RaySet& rays, bool closest, EngineAnswers& a, const QueryOptions& options) const {
@@ -69,12 +72,16 @@ private:
         const bool image = rays.packets_x > 0;
         if (closest) {
             a.packet_hits.resize(rays.packets.size());
-            if (image) mlrta_->intersect(grid(rays), a.packet_hits, options);
-            else mlrta_->intersect(std::span<const Packet16>(rays.packets), a.packet_hits, options);
+            if (image)
+                mlrta_->intersect(grid(rays), a.packet_hits, options);
+            else
+                mlrta_->intersect(std::span<const Packet16>(rays.packets), a.packet_hits, options);
         } else {
             a.packet_occluded.resize(rays.packets.size());
-            if (image) mlrta_->occluded(grid(rays), a.packet_occluded, options);
-            else mlrta_->occluded(std::span<const Packet16>(rays.packets), a.packet_occluded, options);
+            if (image)
+                mlrta_->occluded(grid(rays), a.packet_occluded, options);
+            else
+                mlrta_->occluded(std::span<const Packet16>(rays.packets), a.packet_occluded, options);
         }
     }
 

@@ -11,9 +11,12 @@ namespace {
 
 const char* order_name(VlfOrder o) {
     switch (o) {
-        case VlfOrder::input: return "input";
-        case VlfOrder::psf: return "psf";
-        case VlfOrder::automatic: return "auto";
+        case VlfOrder::input:
+            return "input";
+        case VlfOrder::psf:
+            return "psf";
+        case VlfOrder::automatic:
+            return "auto";
     }
     return "?";
 }
@@ -27,7 +30,8 @@ public:
         VlfOptions o = options.vlf;
         o.mode = mode_;
         const auto start = std::chrono::steady_clock::now();
-        field_ = std::make_unique<VisibilityField>(scene, o, o.eager ? options.build_progress : VisibilityField::Progress{});
+        field_ =
+            std::make_unique<VisibilityField>(scene, o, o.eager ? options.build_progress : VisibilityField::Progress{});
         construct_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         eager_psf_seconds_ = field_->stats().build_seconds;
     }
@@ -84,6 +88,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Engine> make_vlf_engine(bool fast) { return std::make_unique<VlfEngine>(fast ? VlfMode::fast : VlfMode::exact); }
+std::unique_ptr<Engine> make_vlf_engine(bool fast) {
+    return std::make_unique<VlfEngine>(fast ? VlfMode::fast : VlfMode::exact);
+}
 
 }  // namespace beamtrace::workload

@@ -16,7 +16,8 @@ namespace {
 oracle::Tally compare(const Workload& w, const std::vector<Hit>& hits) {
     oracle::Tally tally;
     for (std::size_t slot = 0; slot < w.rays.slots(); ++slot)
-        if (w.rays.active(slot)) tally.record_hit(w.source.scene, slot, w.rays.ray(slot), hits[slot], w.reference_hits[slot]);
+        if (w.rays.active(slot))
+            tally.record_hit(w.source.scene, slot, w.rays.ray(slot), hits[slot], w.reference_hits[slot]);
     return tally;
 }
 
@@ -159,7 +160,8 @@ std::optional<Anchor> find_anchor(std::vector<EngineResult>& results) {
         return std::nullopt;
     }
     Anchor a{best->name, best->mrays_per_s, {}};
-    if (best->stats.is_object() && best->stats.contains(best->variant_key) && best->stats[best->variant_key].is_string())
+    if (best->stats.is_object() && best->stats.contains(best->variant_key) &&
+        best->stats[best->variant_key].is_string())
         a.context_flag = best->stats[best->variant_key].get<std::string>();
     for (EngineResult& e : results) e.x_anchor = e.mrays_per_s / a.mrays_per_s;
     return a;
@@ -209,30 +211,35 @@ BenchResult run_bench(const Workload& w, const BenchOptions& options) {
 nlohmann::json to_json(const BenchResult& r) {
     nlohmann::json engines = nlohmann::json::object();
     for (const EngineResult& e : r.engines) {
-        engines[e.name] = {{"mrays_per_s", e.mrays_per_s},     {"seconds", e.seconds},
-                           {"build_seconds", e.build_seconds}, {"memory_bytes", e.memory_bytes},
-                           {"hits", e.hits},                   {"oracle", oracle::to_json(e.oracle)},
+        engines[e.name] = {{"mrays_per_s", e.mrays_per_s},
+                           {"seconds", e.seconds},
+                           {"build_seconds", e.build_seconds},
+                           {"memory_bytes", e.memory_bytes},
+                           {"hits", e.hits},
+                           {"oracle", oracle::to_json(e.oracle)},
                            {"stats", e.stats}};
         engines[e.name]["x_anchor"] = r.anchor ? nlohmann::json(e.x_anchor) : nlohmann::json(nullptr);
     }
     nlohmann::json anchor = nullptr;
     if (r.anchor)
-        anchor = {{"engine", r.anchor->engine}, {"mrays_per_s", r.anchor->mrays_per_s}, {"context_flag", r.anchor->context_flag}};
-    return {{"scene", r.scene},     {"triangles", r.triangles}, {"mode", to_string(r.mode)},
-            {"width", r.width},     {"height", r.height},       {"threads", r.threads},
-            {"rays", r.rays},       {"anchor", anchor},         {"engines", engines}};
+        anchor = {{"engine", r.anchor->engine},
+                  {"mrays_per_s", r.anchor->mrays_per_s},
+                  {"context_flag", r.anchor->context_flag}};
+    return {{"scene", r.scene}, {"triangles", r.triangles}, {"mode", to_string(r.mode)},
+            {"width", r.width}, {"height", r.height},       {"threads", r.threads},
+            {"rays", r.rays},   {"anchor", anchor},         {"engines", engines}};
 }
 
 report::Table to_table(const BenchResult& r) {
-    report::Table t({"engine", "Mrays/s", "x best Embree", "trace s", "build s", "memory MB",
-                     "hits", "agree", "ties", "grazing", "mismatch"});
+    report::Table t({"engine", "Mrays/s", "x best Embree", "trace s", "build s", "memory MB", "hits", "agree", "ties",
+                     "grazing", "mismatch"});
     for (const EngineResult& e : r.engines) {
         std::string name = e.name;
         if (r.anchor && e.name == r.anchor->engine) name += " (anchor)";
-        t.add_row({name, fixed(e.mrays_per_s, 3), r.anchor ? fixed(e.x_anchor, 2) : "-",
-                   fixed(e.seconds, 3), fixed(e.build_seconds, 3), fixed(double(e.memory_bytes) / 1e6, 1),
-                   std::to_string(e.hits), std::to_string(e.oracle.agree), std::to_string(e.oracle.ties),
-                   std::to_string(e.oracle.grazing), std::to_string(e.oracle.mismatch)});
+        t.add_row({name, fixed(e.mrays_per_s, 3), r.anchor ? fixed(e.x_anchor, 2) : "-", fixed(e.seconds, 3),
+                   fixed(e.build_seconds, 3), fixed(double(e.memory_bytes) / 1e6, 1), std::to_string(e.hits),
+                   std::to_string(e.oracle.agree), std::to_string(e.oracle.ties), std::to_string(e.oracle.grazing),
+                   std::to_string(e.oracle.mismatch)});
     }
     return t;
 }

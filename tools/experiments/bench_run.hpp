@@ -26,16 +26,16 @@ struct VariantTiming {
 struct EngineResult {
     std::string name;
     double mrays_per_s = 0.0;
-    double seconds = 0.0;          // best of the timed runs (of its fastest variant)
+    double seconds = 0.0;  // best of the timed runs (of its fastest variant)
     double build_seconds = 0.0;
     std::size_t memory_bytes = 0;
-    std::uint64_t hits = 0;        // rays with a hit (primary) or occluded (shadow, ao)
+    std::uint64_t hits = 0;  // rays with a hit (primary) or occluded (shadow, ao)
     oracle::Tally oracle;
     nlohmann::json stats;
     // Engines with timing variants: each one's best pass; the engine's speed is the fastest's.
     std::vector<VariantTiming> variants;
-    std::string variant_key;       // the statistic naming the fastest variant ("context_flag")
-    double x_anchor = 0.0;         // mrays_per_s over the run's anchor; 0 when the run has none
+    std::string variant_key;  // the statistic naming the fastest variant ("context_flag")
+    double x_anchor = 0.0;    // mrays_per_s over the run's anchor; 0 when the run has none
 };
 
 // The Embree engines: the oracle at its documented best, the anchors of every speed ratio.
@@ -54,8 +54,8 @@ struct BenchOptions {
     int threads = 1;
     int repeats = 3;
     EngineOptions engine_options;
-    bool progress = false;        // progress bars on stderr (only drawn on a terminal)
-    std::string progress_label;   // the bars read "build LABEL", "trace LABEL" (default: the engine's name)
+    bool progress = false;       // progress bars on stderr (only drawn on a terminal)
+    std::string progress_label;  // the bars read "build LABEL", "trace LABEL" (default: the engine's name)
     // Add every Embree engine missing from `engines`, so that the run's anchor is Embree at its best
     // (off: the anchor is the fastest Embree engine listed, if any).
     bool anchor_engines = true;

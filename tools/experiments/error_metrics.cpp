@@ -31,8 +31,7 @@ double occlusion_fraction_mae(const std::vector<std::uint32_t>& pixel, const std
                               const std::vector<std::uint8_t>& oracle) {
     if (ours.size() != pixel.size() || oracle.size() != pixel.size())
         throw Error("occlusion_fraction_mae: " + std::to_string(pixel.size()) + " slots, " +
-                    std::to_string(ours.size()) + " answers and " + std::to_string(oracle.size()) +
-                    " of the oracle");
+                    std::to_string(ours.size()) + " answers and " + std::to_string(oracle.size()) + " of the oracle");
     struct Counts {
         std::uint32_t rays = 0, ours = 0, oracle = 0;
     };

@@ -27,12 +27,15 @@ report::Image complexity_picture(const Engine& engine, const RaySet& primary) {
     for (const TileInfo& t : tiles) most = std::max(most, std::log2(double(std::max<std::size_t>(t.subtree_nodes, 1))));
     for (const TileInfo& t : tiles) {
         report::Rgb8 c{32, 32, 40};
-        if (t.divergent) c = report::Rgb8{220, 30, 30};
-        else if (t.subtree_nodes > 0) c = report::heat_color(std::log2(double(t.subtree_nodes)) / most);
+        if (t.divergent)
+            c = report::Rgb8{220, 30, 30};
+        else if (t.subtree_nodes > 0)
+            c = report::heat_color(std::log2(double(t.subtree_nodes)) / most);
         for (int y = t.y0 * 4; y < std::min(t.y1 * 4, primary.height); ++y)
             for (int x = t.x0 * 4; x < std::min(t.x1 * 4, primary.width); ++x) {
                 const bool border = !t.divergent && (x == t.x0 * 4 || y == t.y0 * 4);
-                const report::Rgb8 p = border ? report::Rgb8{std::uint8_t(c.r / 2), std::uint8_t(c.g / 2), std::uint8_t(c.b / 2)} : c;
+                const report::Rgb8 p =
+                    border ? report::Rgb8{std::uint8_t(c.r / 2), std::uint8_t(c.g / 2), std::uint8_t(c.b / 2)} : c;
                 image.set(x, y, p.r, p.g, p.b);
             }
     }
@@ -56,7 +59,8 @@ report::Image render_picture(const Engine& engine, const Scene& scene, const sce
         image.set(int(pixel % std::uint32_t(o.width)), int(pixel / std::uint32_t(o.width)), c.r, c.g, c.b);
     };
     switch (o.shade) {
-        case Shade::complexity: break;  // handled above
+        case Shade::complexity:
+            break;  // handled above
         case Shade::normal:
             for (std::size_t s = 0; s < primary.slots(); ++s)
                 if (primary.active(s) && hits[s].hit())
@@ -67,7 +71,8 @@ report::Image render_picture(const Engine& engine, const Scene& scene, const sce
             for (const Hit& h : hits)
                 if (h.hit()) lo = std::min(lo, h.t), hi = std::max(hi, h.t);
             for (std::size_t s = 0; s < primary.slots(); ++s)
-                if (primary.active(s) && hits[s].hit()) paint(primary.pixel[s], report::heat_color(1.0 - (hits[s].t - lo) / std::max(hi - lo, 1e-30f)));
+                if (primary.active(s) && hits[s].hit())
+                    paint(primary.pixel[s], report::heat_color(1.0 - (hits[s].t - lo) / std::max(hi - lo, 1e-30f)));
             break;
         }
         case Shade::ao: {

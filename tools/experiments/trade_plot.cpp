@@ -56,10 +56,9 @@ struct Style {
 };
 Style engine_style(const std::string& engine) {
     static const std::map<std::string, Style> styles = {
-        {"embree1", {"#7f7f7f", 4}},  {"embree16", {"#404040", 5}}, {"embree-stream", {"#a0a0a0", 8}},
-        {"brute", {"#bcbd22", 3}},
-        {"kd1", {"#1f77b4", 7}},      {"kd16", {"#17becf", 9}},     {"mlrta", {"#2ca02c", 11}},
-        {"vlf", {"#d62728", 13}},     {"vlf-fast", {"#ff7f0e", 15}}};
+        {"embree1", {"#7f7f7f", 4}}, {"embree16", {"#404040", 5}}, {"embree-stream", {"#a0a0a0", 8}},
+        {"brute", {"#bcbd22", 3}},   {"kd1", {"#1f77b4", 7}},      {"kd16", {"#17becf", 9}},
+        {"mlrta", {"#2ca02c", 11}},  {"vlf", {"#d62728", 13}},     {"vlf-fast", {"#ff7f0e", 15}}};
     const auto it = styles.find(engine);
     return it != styles.end() ? it->second : Style{"#9467bd", 1};
 }
@@ -132,7 +131,8 @@ TradePlot trade_plot(const TradeResult& r) {
 
     double slowest = 1e300, fastest = 0.0;
     for (const TradeRow* row : rows)
-        slowest = std::min(slowest, r.steady_mrays_per_s(*row)), fastest = std::max(fastest, r.steady_mrays_per_s(*row));
+        slowest = std::min(slowest, r.steady_mrays_per_s(*row)),
+        fastest = std::max(fastest, r.steady_mrays_per_s(*row));
     const bool log_y = slowest > 0.0 && fastest / slowest > 10.0;
 
     const double y_low = log_y ? slowest / 1.6 : 0.0, y_high = log_y ? fastest * 1.6 : fastest * 1.15;
@@ -152,11 +152,13 @@ TradePlot trade_plot(const TradeResult& r) {
     }
     std::sort(front_rows.begin(), front_rows.end(),
               [](const TradeRow* a, const TradeRow* b) { return a->error_rate() < b->error_rate(); });
-    for (const TradeRow* row : front_rows) front += number(x_of(*row)) + " " + number(r.steady_mrays_per_s(*row)) + "\n";
+    for (const TradeRow* row : front_rows)
+        front += number(x_of(*row)) + " " + number(r.steady_mrays_per_s(*row)) + "\n";
 
     std::string s;
     char head[512];
-    std::snprintf(head, sizeof head, "%s (%zu triangles), %s rays, %dx%d, %zu rays, %d thread%s, best pass of >= %d and >= %g s",
+    std::snprintf(head, sizeof head,
+                  "%s (%zu triangles), %s rays, %dx%d, %zu rays, %d thread%s, best pass of >= %d and >= %g s",
                   r.scene.c_str(), r.triangles, to_string(r.mode), r.width, r.height, r.rays, r.threads,
                   r.threads == 1 ? "" : "s", r.repeats, r.min_seconds);
     s += "set termoption noenhanced\n";
@@ -164,8 +166,10 @@ TradePlot trade_plot(const TradeResult& r) {
     s += "set xlabel 'mismatches per ray (log scale; 0 = no mismatch, engines side by side)' offset 0,0.3\n";
     s += "set ylabel " + quoted(std::string("Mrays/s at embree16's best pass") + (log_y ? " (log scale)" : "")) + "\n";
     const TradeRow* anchor = r.anchor();
-    s += "set y2label " + quoted(anchor ? "speed / anchor (" + anchor->setting.engine + ", alternating passes)"
-                                        : std::string("speed / embree16 (alternating passes)")) + "\n";
+    s += "set y2label " +
+         quoted(anchor ? "speed / anchor (" + anchor->setting.engine + ", alternating passes)"
+                       : std::string("speed / embree16 (alternating passes)")) +
+         "\n";
     s += "set ytics nomirror\n";
 
     s += "set logscale x\n";
@@ -202,13 +206,16 @@ TradePlot trade_plot(const TradeResult& r) {
                       std::size_t(std::count_if(rows.begin(), rows.end(), [](const TradeRow* row) {
                           return is_reference_engine(row->setting.engine);
                       })));
-        s += "set label " + quoted(text) + " at graph 0.99, first " + number(y) + " right offset 0,0.6 font ',9' textcolor rgb '#404040'\n";
+        s += "set label " + quoted(text) + " at graph 0.99, first " + number(y) +
+             " right offset 0,0.6 font ',9' textcolor rgb '#404040'\n";
     }
     s += "set key outside bottom center horizontal box\nset bmargin 7\n";
     s += "plot ";
     std::vector<std::string> parts;
     if (!front.empty()) {
-        parts.push_back("'front.dat' using 1:2 with linespoints linewidth 3 pointtype 6 pointsize 3 linecolor rgb '#9edae5' title 'Pareto front'");
+        parts.push_back(
+            "'front.dat' using 1:2 with linespoints linewidth 3 pointtype 6 pointsize 3 linecolor rgb '#9edae5' title "
+            "'Pareto front'");
         plot.data_files.emplace_back("front.dat", front);
     }
     for (const std::string& e : engines) {
@@ -238,8 +245,8 @@ TradePlot trade_plot(const TradeResult& r) {
     const std::vector<report::LabelSide> sides = report::place_labels(anchors, markers, geometry);
     std::string labels[4];
     for (std::size_t i = 0; i < labelled.size(); ++i)
-        labels[int(sides[i])] += number(x_of(*labelled[i])) + " " + number(r.steady_mrays_per_s(*labelled[i])) +
-                                 " " + data_string(labelled[i]->setting.label) + "\n";
+        labels[int(sides[i])] += number(x_of(*labelled[i])) + " " + number(r.steady_mrays_per_s(*labelled[i])) + " " +
+                                 data_string(labelled[i]->setting.label) + "\n";
     const char* label_styles[4] = {"left offset char 1,0.5", "left offset char 1,-0.5", "right offset char -1,0.5",
                                    "right offset char -1,-0.5"};
     for (int k = 0; k < 4; ++k) {

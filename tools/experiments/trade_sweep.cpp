@@ -35,8 +35,10 @@ std::string mlrta_settings(const MlrtaSettings& m) {
     return "tile=" + std::to_string(m.initial_tile) + " split=" + std::to_string(m.split_factor) +
            " min=" + std::to_string(m.min_tile) +
            " frustum=" + (m.experimental.frustum_test == FrustumTest::inverse ? "inverse" : "direct") +
-           " culling=" + (m.experimental.triangle_culling ? "on" : "off") + " ep-triangles=" + (m.experimental.ep_triangles ? "on" : "off") +
-           " stuck-stop=" + (m.experimental.stop_when_stuck ? "on" : "off") + " stuck-retry=" + (m.experimental.retry_stuck ? "on" : "off") +
+           " culling=" + (m.experimental.triangle_culling ? "on" : "off") +
+           " ep-triangles=" + (m.experimental.ep_triangles ? "on" : "off") +
+           " stuck-stop=" + (m.experimental.stop_when_stuck ? "on" : "off") +
+           " stuck-retry=" + (m.experimental.retry_stuck ? "on" : "off") +
            " ep-resume=" + (m.experimental.ep_resume ? "on" : "off");
 }
 
@@ -110,9 +112,8 @@ const TradeRow* TradeResult::anchor() const {
 }
 
 std::size_t TradeResult::references_on_front() const {
-    return std::size_t(std::count_if(rows.begin(), rows.end(), [](const TradeRow& r) {
-        return r.pareto && is_reference_engine(r.setting.engine);
-    }));
+    return std::size_t(std::count_if(
+        rows.begin(), rows.end(), [](const TradeRow& r) { return r.pareto && is_reference_engine(r.setting.engine); }));
 }
 
 double TradeRow::error_rate() const {
@@ -146,7 +147,8 @@ std::vector<TradeSetting> trade_settings(const Workload& w, const TradeOptions& 
     for (const auto& [suffix, m] : mlrta_variants(false)) {
         EngineOptions o = base;
         o.mlrta = m;
-        add("kd16", kd_settings(o.kd_rules) + " culling=" + (m.experimental.triangle_culling ? "on" : "off"), "kd16" + suffix, o);
+        add("kd16", kd_settings(o.kd_rules) + " culling=" + (m.experimental.triangle_culling ? "on" : "off"),
+            "kd16" + suffix, o);
     }
     for (const auto& [suffix, m] : mlrta_variants(w.rays.packets_x > 0)) {
         EngineOptions o = base;
@@ -160,8 +162,8 @@ std::vector<TradeSetting> trade_settings(const Workload& w, const TradeOptions& 
             const std::size_t psfs = psfs_needed(w.rays, l);
             std::string skipped;
             if (triangles * double(psfs) > options.vlf_budget)
-                skipped = "skipped: the rays need " + std::to_string(psfs) + " of " + std::to_string(l) +
-                          " PSFs; " + std::to_string(psfs) + " x " + std::to_string(std::size_t(triangles)) +
+                skipped = "skipped: the rays need " + std::to_string(psfs) + " of " + std::to_string(l) + " PSFs; " +
+                          std::to_string(psfs) + " x " + std::to_string(std::size_t(triangles)) +
                           " triangles is over the budget of " + number(options.vlf_budget / 1e6) +
                           " million triangle-PSFs";
             for (int n : {64, 128})
@@ -171,7 +173,9 @@ std::vector<TradeSetting> trade_settings(const Workload& w, const TradeOptions& 
                     o.vlf.tiles = n;
                     o.vlf.depth = d;
                     add(engine, "l=" + std::to_string(l) + " n=" + std::to_string(n) + " d=" + std::to_string(d),
-                        std::string(engine) + " " + std::to_string(l) + "/" + std::to_string(n) + "/" + std::to_string(d), o);
+                        std::string(engine) + " " + std::to_string(l) + "/" + std::to_string(n) + "/" +
+                            std::to_string(d),
+                        o);
                     out.back().skipped = skipped;
                 }
         }
@@ -191,8 +195,8 @@ TradeResult run_trade(const Workload& w, const TradeOptions& options) {
     result.repeats = options.repeats;
     result.min_seconds = options.min_seconds;
     result.rays = w.rays.ray_count;
-    const std::size_t measured = std::size_t(std::count_if(settings.begin(), settings.end(),
-                                                           [](const TradeSetting& s) { return s.skipped.empty(); }));
+    const std::size_t measured = std::size_t(
+        std::count_if(settings.begin(), settings.end(), [](const TradeSetting& s) { return s.skipped.empty(); }));
     BenchOptions reference_options;
     reference_options.threads = options.threads;
     TimedEngine reference = build_engine(w, "embree16", reference_options);
@@ -259,7 +263,8 @@ TradeResult run_trade(const Workload& w, const TradeOptions& options) {
 
 std::string to_csv(const TradeResult& r) {
     std::string csv =
-        "engine,settings,mrays_per_s,x_embree16,trace_seconds,build_seconds,memory_bytes,rays,agree,ties,grazing,mismatch,"
+        "engine,settings,mrays_per_s,x_embree16,trace_seconds,build_seconds,memory_bytes,rays,agree,ties,grazing,"
+        "mismatch,"
         "error_rate,mean_rel_t_error,max_rel_t_error,ao_occlusion_mae,pareto,note,x_anchor\n";
     for (const TradeRow& row : r.rows) {
         csv += row.setting.engine + "," + row.setting.settings + ",";
@@ -269,15 +274,14 @@ std::string to_csv(const TradeResult& r) {
         }
         const EngineResult& e = row.result;
         const bool primary = r.mode == Mode::primary;
-        csv += number(e.mrays_per_s) + "," + number(row.x_reference) + "," + number(e.seconds) + "," + number(e.build_seconds) + "," +
-               std::to_string(e.memory_bytes) + "," + std::to_string(e.oracle.total()) + "," +
-               std::to_string(e.oracle.agree) + "," + std::to_string(e.oracle.ties) + "," +
+        csv += number(e.mrays_per_s) + "," + number(row.x_reference) + "," + number(e.seconds) + "," +
+               number(e.build_seconds) + "," + std::to_string(e.memory_bytes) + "," + std::to_string(e.oracle.total()) +
+               "," + std::to_string(e.oracle.agree) + "," + std::to_string(e.oracle.ties) + "," +
                std::to_string(e.oracle.grazing) + "," + std::to_string(e.oracle.mismatch) + "," +
                number(row.error_rate()) + "," + (primary ? number(row.t_error.mean) : "") + "," +
-               (primary ? number(row.t_error.max) : "") + "," +
-               (r.mode == Mode::ao ? number(row.occlusion_mae) : "") + "," + (row.pareto ? "1" : "0") + "," +
-               (is_reference_engine(row.setting.engine) ? "reference" : "") + "," +
-               (r.anchor() ? number(row.x_anchor) : "") + "\n";
+               (primary ? number(row.t_error.max) : "") + "," + (r.mode == Mode::ao ? number(row.occlusion_mae) : "") +
+               "," + (row.pareto ? "1" : "0") + "," + (is_reference_engine(row.setting.engine) ? "reference" : "") +
+               "," + (r.anchor() ? number(row.x_anchor) : "") + "\n";
     }
     return csv;
 }
@@ -293,12 +297,11 @@ report::Table to_table(const TradeResult& r) {
         }
         const EngineResult& e = row.result;
         const bool is_anchor = &row == r.anchor();
-        t.add_row({row.setting.label + (is_anchor ? " (anchor)" : ""), fixed(e.mrays_per_s, 3), fixed(row.x_reference, 2),
-                   r.anchor() ? fixed(row.x_anchor, 2) : "-", fixed(e.build_seconds, 3),
+        t.add_row({row.setting.label + (is_anchor ? " (anchor)" : ""), fixed(e.mrays_per_s, 3),
+                   fixed(row.x_reference, 2), r.anchor() ? fixed(row.x_anchor, 2) : "-", fixed(e.build_seconds, 3),
                    fixed(double(e.memory_bytes) / 1e6, 1), std::to_string(e.oracle.mismatch),
                    number(100.0 * row.error_rate()),
-                   primary ? number(row.t_error.mean) : (ao ? number(row.occlusion_mae) : "-"),
-                   row.pareto ? "*" : ""});
+                   primary ? number(row.t_error.mean) : (ao ? number(row.occlusion_mae) : "-"), row.pareto ? "*" : ""});
     }
     return t;
 }

@@ -21,20 +21,20 @@ struct TradeSetting {
     std::string settings;  // the settings of the structure, "l=33 n=64 d=4" (no commas)
     std::string label;     // short name for plots: "vlf-fast 33/64/4", "kd1 no rule 2"
     EngineOptions options;
-    std::string skipped;   // why the setting is not measured; empty when it is
+    std::string skipped;  // why the setting is not measured; empty when it is
 };
 
 struct TradeOptions {
     std::vector<std::string> engines;  // engines to sweep; empty: every engine but brute
     int threads = 1;
-    int repeats = 3;                   // timed passes per setting at least (the best counts)
+    int repeats = 3;  // timed passes per setting at least (the best counts)
     // ... and more until the setting's passes and embree16's took this long (at most 1000 passes):
     // small workloads take milliseconds a pass, too few for a best time on a busy machine.
     double min_seconds = 0.5;
     // A VLF-RT setting is skipped when the scene's triangles times the parallel subfields its rays
     // need (counted from the rays' directions) exceed this: about 0.35 s of building per million.
     double vlf_budget = 40e6;
-    bool progress = false;             // progress bars on stderr (only drawn on a terminal)
+    bool progress = false;  // progress bars on stderr (only drawn on a terminal)
     // Sweep every Embree engine (embree1, embree16, embree-stream) even when `engines` leaves it out,
     // so that the anchor, the fastest of them, is Embree at its best.
     bool anchor_engines = true;
@@ -51,15 +51,15 @@ bool is_reference_engine(const std::string& engine);
 
 struct TradeRow {
     TradeSetting setting;
-    EngineResult result;          // no engine statistics; oracle counts with the oracle's hints
+    EngineResult result;  // no engine statistics; oracle counts with the oracle's hints
     // Speed over embree16's, each timed pass of the setting followed by one of embree16 (the best
     // of each), so that a change of machine load while the sweep runs moves both alike.
     double x_reference = 0.0;
     // Speed over the anchor's (the fastest reference row): x_reference / the anchor's x_reference.
     double x_anchor = 0.0;
-    RelativeTError t_error;       // primary mode
-    double occlusion_mae = 0.0;   // ao mode
-    bool pareto = false;          // on the Pareto front of every measured row, the references included
+    RelativeTError t_error;      // primary mode
+    double occlusion_mae = 0.0;  // ao mode
+    bool pareto = false;         // on the Pareto front of every measured row, the references included
 
     bool measured() const { return setting.skipped.empty(); }
     // mismatch / rays: the x axis of the plot (grazing and ties are not errors here).

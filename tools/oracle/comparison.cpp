@@ -11,9 +11,7 @@ namespace beamtrace::oracle {
 namespace {
 
 // A triangle id some query may legitimately report.
-bool hittable(const Scene& scene, std::uint32_t id) {
-    return id < scene.triangle_count() && !scene.is_degenerate(id);
-}
+bool hittable(const Scene& scene, std::uint32_t id) { return id < scene.triangle_count() && !scene.is_degenerate(id); }
 
 bool same_t(float a, float b) {
     const double ta = a, tb = b;
@@ -25,10 +23,14 @@ bool same_t(float a, float b) {
 
 const char* to_string(Verdict verdict) {
     switch (verdict) {
-        case Verdict::agree: return "agree";
-        case Verdict::ties: return "ties";
-        case Verdict::grazing: return "grazing";
-        case Verdict::mismatch: return "mismatch";
+        case Verdict::agree:
+            return "agree";
+        case Verdict::ties:
+            return "ties";
+        case Verdict::grazing:
+            return "grazing";
+        case Verdict::mismatch:
+            return "mismatch";
     }
     return "unknown";
 }
@@ -64,10 +66,18 @@ Verdict classify_occlusion(const Scene& scene, const Ray& ray, bool ours, bool o
 
 void Tally::add(Verdict verdict) {
     switch (verdict) {
-        case Verdict::agree: ++agree; break;
-        case Verdict::ties: ++ties; break;
-        case Verdict::grazing: ++grazing; break;
-        case Verdict::mismatch: ++mismatch; break;
+        case Verdict::agree:
+            ++agree;
+            break;
+        case Verdict::ties:
+            ++ties;
+            break;
+        case Verdict::grazing:
+            ++grazing;
+            break;
+        case Verdict::mismatch:
+            ++mismatch;
+            break;
     }
 }
 
@@ -127,18 +137,22 @@ Tally& Tally::operator+=(const Tally& other) {
 
 std::uint64_t Tally::count(Verdict verdict) const {
     switch (verdict) {
-        case Verdict::agree: return agree;
-        case Verdict::ties: return ties;
-        case Verdict::grazing: return grazing;
-        case Verdict::mismatch: return mismatch;
+        case Verdict::agree:
+            return agree;
+        case Verdict::ties:
+            return ties;
+        case Verdict::grazing:
+            return grazing;
+        case Verdict::mismatch:
+            return mismatch;
     }
     return 0;
 }
 
 std::string summary(const Tally& t) {
     return "agree " + std::to_string(t.agree) + " ties " + std::to_string(t.ties) + " grazing " +
-           std::to_string(t.grazing) + " mismatch " + std::to_string(t.mismatch) + " (of " +
-           std::to_string(t.total()) + ")";
+           std::to_string(t.grazing) + " mismatch " + std::to_string(t.mismatch) + " (of " + std::to_string(t.total()) +
+           ")";
 }
 
 }  // namespace beamtrace::oracle

@@ -55,8 +55,7 @@ struct Tally {
     void add(Verdict verdict, std::uint64_t ray_index, const Ray& ray, bool ours_occluded, bool oracle_occluded);
 
     // Classify and add in one step; returns the verdict.
-    Verdict record_hit(const Scene& scene, std::uint64_t ray_index, const Ray& ray, const Hit& ours,
-                       const Hit& oracle);
+    Verdict record_hit(const Scene& scene, std::uint64_t ray_index, const Ray& ray, const Hit& ours, const Hit& oracle);
     Verdict record_occlusion(const Scene& scene, std::uint64_t ray_index, const Ray& ray, bool ours, bool oracle,
                              std::uint32_t triangle_hint = kNoHit);
 

@@ -77,14 +77,18 @@ EmbreeNativeRays::EmbreeNativeRays(const EmbreeOracle& oracle, EmbreeLayout layo
             if (p > 0xFFFFFFFFu) throw Error("embree rays: more than 2^32 packets");
             m.packet_of.push_back(std::uint32_t(p));
             ValidMask16& v = m.valid.emplace_back();
-            if (m.closest) m.hit16.emplace_back();
-            else m.ray16.emplace_back();
+            if (m.closest)
+                m.hit16.emplace_back();
+            else
+                m.ray16.emplace_back();
             for (int i = 0; i < 16; ++i) {
                 v.lane[i] = lane[i] ? -1 : 0;
                 m.rays += lane[i].has_value();
                 const EmbreeSegment& s = lane[i] ? *lane[i] : kIdleLane;
-                if (m.closest) fill_lane(m.hit16.back().ray, i, s);
-                else fill_lane(m.ray16.back(), i, s);
+                if (m.closest)
+                    fill_lane(m.hit16.back().ray, i, s);
+                else
+                    fill_lane(m.ray16.back(), i, s);
                 m.keep_conversion(s);
             }
         }
@@ -97,8 +101,10 @@ EmbreeNativeRays::EmbreeNativeRays(const EmbreeOracle& oracle, EmbreeLayout layo
                 const std::size_t slot = p * 16 + std::size_t(i);
                 if (slot > 0xFFFFFFFFu) throw Error("embree rays: more than 2^32 ray slots");
                 m.slot_of.push_back(std::uint32_t(slot));
-                if (m.closest) fill_ray(m.hit1.emplace_back().ray, *s);
-                else fill_ray(m.ray1.emplace_back(), *s);
+                if (m.closest)
+                    fill_ray(m.hit1.emplace_back().ray, *s);
+                else
+                    fill_ray(m.ray1.emplace_back(), *s);
                 m.keep_conversion(*s);
                 ++m.rays;
             }
@@ -113,9 +119,12 @@ EmbreeNativeRays::~EmbreeNativeRays() = default;
 std::size_t EmbreeNativeRays::units() const {
     const Layout& m = *layout_;
     switch (m.kind) {
-        case EmbreeLayout::packet16: return m.packet_of.size();
-        case EmbreeLayout::stream: return (m.slot_of.size() + kStreamBlock - 1) / kStreamBlock;
-        case EmbreeLayout::single: return m.slot_of.size();
+        case EmbreeLayout::packet16:
+            return m.packet_of.size();
+        case EmbreeLayout::stream:
+            return (m.slot_of.size() + kStreamBlock - 1) / kStreamBlock;
+        case EmbreeLayout::single:
+            return m.slot_of.size();
     }
     return 0;
 }
@@ -157,9 +166,11 @@ void EmbreeNativeRays::trace(EmbreeContextFlag flag, std::size_t begin, std::siz
     switch (m.kind) {
         case EmbreeLayout::packet16:
             if (m.closest)
-                for (std::size_t k = begin; k < end; ++k) rtcIntersect16(m.valid[k].lane, m.scene, &context, &m.hit16[k]);
+                for (std::size_t k = begin; k < end; ++k)
+                    rtcIntersect16(m.valid[k].lane, m.scene, &context, &m.hit16[k]);
             else
-                for (std::size_t k = begin; k < end; ++k) rtcOccluded16(m.valid[k].lane, m.scene, &context, &m.ray16[k]);
+                for (std::size_t k = begin; k < end; ++k)
+                    rtcOccluded16(m.valid[k].lane, m.scene, &context, &m.ray16[k]);
             break;
         case EmbreeLayout::single:
             if (m.closest)
@@ -171,8 +182,10 @@ void EmbreeNativeRays::trace(EmbreeContextFlag flag, std::size_t begin, std::siz
             const std::size_t first = begin * kStreamBlock, last = std::min(end * kStreamBlock, m.slot_of.size());
             if (first >= last) break;
             const auto count = static_cast<unsigned>(last - first);
-            if (m.closest) rtcIntersect1M(m.scene, &context, &m.hit1[first], count, sizeof(RTCRayHit));
-            else rtcOccluded1M(m.scene, &context, &m.ray1[first], count, sizeof(RTCRay));
+            if (m.closest)
+                rtcIntersect1M(m.scene, &context, &m.hit1[first], count, sizeof(RTCRayHit));
+            else
+                rtcOccluded1M(m.scene, &context, &m.ray1[first], count, sizeof(RTCRay));
             break;
         }
     }
@@ -221,7 +234,8 @@ std::size_t EmbreeNativeRays::bytes() const {
     const Layout& m = *layout_;
     return m.hit16.size() * sizeof(RTCRayHit16) + m.ray16.size() * sizeof(RTCRay16) +
            m.valid.size() * sizeof(ValidMask16) + m.packet_of.size() * sizeof(std::uint32_t) +
-           m.hit1.size() * sizeof(RTCRayHit) + m.ray1.size() * sizeof(RTCRay) + m.slot_of.size() * sizeof(std::uint32_t) +
+           m.hit1.size() * sizeof(RTCRayHit) + m.ray1.size() * sizeof(RTCRay) +
+           m.slot_of.size() * sizeof(std::uint32_t) +
            (m.tfar0.size() + m.shift.size() + m.t_scale.size()) * sizeof(float);
 }
 

@@ -23,7 +23,8 @@ namespace beamtrace::oracle {
 // How the rays are handed to Embree.
 enum class EmbreeLayout {
     single,    // one RTCRayHit / RTCRay per active ray, rtcIntersect1 / rtcOccluded1 each (embree1)
-    packet16,  // one RTCRayHit16 / RTCRay16 per 4x4 packet with its valid mask, rtcIntersect16 / rtcOccluded16 (embree16)
+    packet16,  // one RTCRayHit16 / RTCRay16 per 4x4 packet with its valid mask, rtcIntersect16 / rtcOccluded16
+               // (embree16)
     stream,    // the active rays as one array of RTCRayHit / RTCRay, rtcIntersect1M / rtcOccluded1M (embree-stream)
 };
 

@@ -24,13 +24,20 @@ namespace {
 
 const char* error_name(RTCError code) {
     switch (code) {
-        case RTC_ERROR_NONE: return "no error";
-        case RTC_ERROR_UNKNOWN: return "unknown error";
-        case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
-        case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
-        case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
-        case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
-        case RTC_ERROR_CANCELLED: return "cancelled";
+        case RTC_ERROR_NONE:
+            return "no error";
+        case RTC_ERROR_UNKNOWN:
+            return "unknown error";
+        case RTC_ERROR_INVALID_ARGUMENT:
+            return "invalid argument";
+        case RTC_ERROR_INVALID_OPERATION:
+            return "invalid operation";
+        case RTC_ERROR_OUT_OF_MEMORY:
+            return "out of memory";
+        case RTC_ERROR_UNSUPPORTED_CPU:
+            return "unsupported CPU";
+        case RTC_ERROR_CANCELLED:
+            return "cancelled";
     }
     return "unrecognised error code";
 }
@@ -62,9 +69,7 @@ struct EmbreeOracle::Impl {
         if (device != nullptr) rtcReleaseDevice(device);
     }
 
-    std::uint32_t triangle_id(unsigned prim) const {
-        return prim_to_triangle.empty() ? prim : prim_to_triangle[prim];
-    }
+    std::uint32_t triangle_id(unsigned prim) const { return prim_to_triangle.empty() ? prim : prim_to_triangle[prim]; }
 
     static void on_error(void* user, RTCError code, const char* text) {
         auto* impl = static_cast<Impl*>(user);
@@ -121,7 +126,7 @@ EmbreeOracle::EmbreeOracle(const Scene& scene, const EmbreeSceneOptions& options
         const auto vertices = scene.vertices();
         // rtcSetNewGeometryBuffer allocates (and pads) Embree's own copy.
         auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                              sizeof(Float3), vertices.size()));
+                                                               sizeof(Float3), vertices.size()));
         auto* ib = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
             geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), kept));
         if (vb == nullptr || ib == nullptr) {
@@ -203,8 +208,8 @@ void EmbreeOracle::intersect16(const Packet16& packet, PacketHits16& hits) const
         if (valid[i] == 0 || rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
             hits.set_hit(i, Hit{});
         } else {
-            hits.set_hit(i, Hit{lane[i].caller_t(rh.ray.tfar[i]), impl_->triangle_id(rh.hit.primID[i]),
-                                 rh.hit.u[i], rh.hit.v[i]});
+            hits.set_hit(i, Hit{lane[i].caller_t(rh.ray.tfar[i]), impl_->triangle_id(rh.hit.primID[i]), rh.hit.u[i],
+                                rh.hit.v[i]});
         }
     }
 }

@@ -8,9 +8,14 @@
 namespace beamtrace::oracle {
 
 inline void fill_ray(RTCRay& out, const EmbreeSegment& s) {
-    out.org_x = s.org.x; out.org_y = s.org.y; out.org_z = s.org.z;
-    out.dir_x = s.dir.x; out.dir_y = s.dir.y; out.dir_z = s.dir.z;
-    out.tnear = s.tnear; out.tfar = s.tfar;
+    out.org_x = s.org.x;
+    out.org_y = s.org.y;
+    out.org_z = s.org.z;
+    out.dir_x = s.dir.x;
+    out.dir_y = s.dir.y;
+    out.dir_z = s.dir.z;
+    out.tnear = s.tnear;
+    out.tfar = s.tfar;
     out.time = 0.0f;
     out.mask = 0xFFFFFFFFu;
     out.id = 0;
@@ -19,9 +24,14 @@ inline void fill_ray(RTCRay& out, const EmbreeSegment& s) {
 
 template <class Ray16>
 void fill_lane(Ray16& out, int i, const EmbreeSegment& s) {
-    out.org_x[i] = s.org.x; out.org_y[i] = s.org.y; out.org_z[i] = s.org.z;
-    out.dir_x[i] = s.dir.x; out.dir_y[i] = s.dir.y; out.dir_z[i] = s.dir.z;
-    out.tnear[i] = s.tnear; out.tfar[i] = s.tfar;
+    out.org_x[i] = s.org.x;
+    out.org_y[i] = s.org.y;
+    out.org_z[i] = s.org.z;
+    out.dir_x[i] = s.dir.x;
+    out.dir_y[i] = s.dir.y;
+    out.dir_z[i] = s.dir.z;
+    out.tnear[i] = s.tnear;
+    out.tfar[i] = s.tfar;
     out.time[i] = 0.0f;
     out.mask[i] = 0xFFFFFFFFu;
     out.id[i] = static_cast<unsigned>(i);

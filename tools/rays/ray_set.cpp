@@ -10,9 +10,12 @@ namespace beamtrace::workload {
 
 const char* to_string(Mode mode) {
     switch (mode) {
-        case Mode::primary: return "primary";
-        case Mode::shadow: return "shadow";
-        case Mode::ao: return "ao";
+        case Mode::primary:
+            return "primary";
+        case Mode::shadow:
+            return "shadow";
+        case Mode::ao:
+            return "ao";
     }
     return "?";
 }
@@ -70,9 +73,7 @@ SurfacePoint surface_point(const Scene& scene, const Ray& ray, const Hit& hit) {
 
 float surface_offset(const Scene& scene) { return 1e-4f * scene.bounds().diagonal(); }
 
-Float3 default_light(const scenes::Camera& camera, const Box& bounds) {
-    return (camera.eye + bounds.center()) * 0.5f;
-}
+Float3 default_light(const scenes::Camera& camera, const Box& bounds) { return (camera.eye + bounds.center()) * 0.5f; }
 
 namespace {
 
@@ -111,7 +112,11 @@ void check_hits(const RaySet& primary, const std::vector<Hit>& hits) {
 
 // A deterministic hash for per-pixel random numbers (independent of threads and engines).
 std::uint32_t hash(std::uint32_t x) {
-    x ^= x >> 16; x *= 0x7feb352dU; x ^= x >> 15; x *= 0x846ca68bU; x ^= x >> 16;
+    x ^= x >> 16;
+    x *= 0x7feb352dU;
+    x ^= x >> 15;
+    x *= 0x846ca68bU;
+    x ^= x >> 16;
     return x;
 }
 float unit_float(std::uint32_t h) { return float(h >> 8) * (1.0f / 16777216.0f); }
@@ -207,8 +212,9 @@ AoDirections::Source parse_ao_directions(const std::string& text) {
 RaySet make_ao_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits, int ao_rays,
                     const AoDirections& directions) {
     check_hits(primary, hits);
-    const std::unique_ptr<DirectionSet> psf =
-        directions.source == AoDirections::Source::psf ? std::make_unique<DirectionSet>(directions.psf_directions) : nullptr;
+    const std::unique_ptr<DirectionSet> psf = directions.source == AoDirections::Source::psf
+                                                  ? std::make_unique<DirectionSet>(directions.psf_directions)
+                                                  : nullptr;
     if (ao_rays <= 0 || ao_rays > 4096) throw Error("--ao-rays must be between 1 and 4096");
     RaySet set;
     set.mode = Mode::ao;

@@ -35,8 +35,10 @@ void replace_rays(Workload& w, RaySet rays) {
     w.rays = std::move(rays);
     w.reference_hits.clear();
     w.reference_occluded.clear();
-    if (w.mode == Mode::primary) w.reference_hits = oracle_hits(*w.oracle, w.rays);
-    else w.reference_occluded = oracle_occlusion(*w.oracle, w.rays);
+    if (w.mode == Mode::primary)
+        w.reference_hits = oracle_hits(*w.oracle, w.rays);
+    else
+        w.reference_occluded = oracle_occlusion(*w.oracle, w.rays);
 }
 
 Workload make_workload(const WorkloadConfig& config) { return make_workload(scenes::load_scene(config.scene), config); }

@@ -13,13 +13,13 @@
 namespace beamtrace::workload {
 
 struct WorkloadConfig {
-    std::string scene;                      // a scene spec (see scenes::load_scene)
-    std::optional<scenes::Camera> camera;   // default: the scene's own
-    std::optional<Float3> light;            // default: default_light()
+    std::string scene;                     // a scene spec (see scenes::load_scene)
+    std::optional<scenes::Camera> camera;  // default: the scene's own
+    std::optional<Float3> light;           // default: default_light()
     Mode mode = Mode::primary;
     int width = 1024, height = 1024;
     int ao_rays = 16;
-    AoDirections ao_directions;             // random (default) or the PSF directions of VLF-RT
+    AoDirections ao_directions;  // random (default) or the PSF directions of VLF-RT
 };
 
 struct Workload {
@@ -28,10 +28,10 @@ struct Workload {
     scenes::Camera camera;
     Float3 light;
     Mode mode = Mode::primary;
-    RaySet primary;                      // always made (secondary rays start at its hits)
-    std::vector<Hit> primary_hits;       // the oracle's closest hits of the primary rays
-    RaySet rays;                         // the rays of `mode` (== primary for Mode::primary)
-    std::vector<Hit> reference_hits;     // oracle closest hits of `rays` (primary mode)
+    RaySet primary;                                // always made (secondary rays start at its hits)
+    std::vector<Hit> primary_hits;                 // the oracle's closest hits of the primary rays
+    RaySet rays;                                   // the rays of `mode` (== primary for Mode::primary)
+    std::vector<Hit> reference_hits;               // oracle closest hits of `rays` (primary mode)
     std::vector<std::uint8_t> reference_occluded;  // oracle occlusion of `rays` (shadow, ao)
     std::shared_ptr<const oracle::EmbreeOracle> oracle;
 };

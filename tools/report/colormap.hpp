@@ -42,9 +42,7 @@ inline Rgb8 heat_color(double value, double lo, double hi) {
 inline Rgb8 normal_color(Float3 n) {
     const double len = std::sqrt(double(n.x) * n.x + double(n.y) * n.y + double(n.z) * n.z);
     if (!(len > 0.0) || !std::isfinite(len)) return {128, 128, 128};
-    auto channel = [&](float c) {
-        return static_cast<std::uint8_t>(std::lround((c / len * 0.5 + 0.5) * 255.0));
-    };
+    auto channel = [&](float c) { return static_cast<std::uint8_t>(std::lround((c / len * 0.5 + 0.5) * 255.0)); };
     return {channel(n.x), channel(n.y), channel(n.z)};
 }
 

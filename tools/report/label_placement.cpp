@@ -43,8 +43,8 @@ std::vector<LabelSide> place_labels(const std::vector<LabelledPoint>& labels, co
     for (const LabelledPoint& label : labels) {
         LabelSide best = LabelSide::above_right;
         double best_cost = -1.0;
-        for (LabelSide side : {LabelSide::above_right, LabelSide::below_right, LabelSide::above_left,
-                               LabelSide::below_left}) {
+        for (LabelSide side :
+             {LabelSide::above_right, LabelSide::below_right, LabelSide::above_left, LabelSide::below_left}) {
             const Box b = text_box(label, side, g);
             double cost = 4.0 * (area(b) - overlap(b, inside));  // text cut off by the frame is worst
             for (const Box& o : obstacles) cost += overlap(b, o);

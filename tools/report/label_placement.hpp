@@ -13,8 +13,8 @@ struct LabelGeometry {
     double width = 1.0, height = 1.0;  // the plotting area, same units as the points (pixels, say)
     double char_width = 5.5;           // of the label font
     double line_height = 11.0;
-    double gap_x = 8.0, gap_y = 7.0;   // from the point to the text's near edge / to the text's centre line
-    double marker_radius = 5.0;        // points are kept free of text within this distance
+    double gap_x = 8.0, gap_y = 7.0;  // from the point to the text's near edge / to the text's centre line
+    double marker_radius = 5.0;       // points are kept free of text within this distance
 };
 
 struct LabelledPoint {

@@ -94,8 +94,8 @@ void plot_with_gnuplot(const std::string& png_path, const std::string& body,
                        const std::vector<std::pair<std::string, std::string>>& data_files) {
     if (png_path.empty()) throw Error("plot: empty output path");
     for (const auto& [name, contents] : data_files) {
-        if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos ||
-            name == "plot.gp" || name == "gnuplot.log")
+        if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos || name == "plot.gp" ||
+            name == "gnuplot.log")
             throw Error("plot '" + png_path + "': data file name '" + name +
                         "' must be a plain file name (no '/', not plot.gp or gnuplot.log)");
     }
@@ -110,8 +110,11 @@ void plot_with_gnuplot(const std::string& png_path, const std::string& body,
     const std::string script =
         "if (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) { set terminal pngcairo size 1024,640 } "
         "else { set terminal png size 1024,640 }\n"
-        "set output " + quoted(png.string()) + "\n"
-        "cd " + quoted(folder.string()) + "\n" + body + "\nunset output\n";
+        "set output " +
+        quoted(png.string()) +
+        "\n"
+        "cd " +
+        quoted(folder.string()) + "\n" + body + "\nunset output\n";
     const fs::path script_path = folder / "plot.gp";
     write_file(script_path, script, png_path);
 

@@ -51,7 +51,9 @@ void write_png(const Image& image, const std::string& path) {
     if (!parent.empty()) {
         std::error_code ec;
         std::filesystem::create_directories(parent, ec);
-        if (ec) throw Error("cannot write PNG '" + path + "': cannot create directory '" + parent.string() + "': " + ec.message());
+        if (ec)
+            throw Error("cannot write PNG '" + path + "': cannot create directory '" + parent.string() +
+                        "': " + ec.message());
     }
     errno = 0;
     if (stbi_write_png(path.c_str(), image.width, image.height, 3, image.rgb.data(), image.width * 3) == 0)

@@ -31,8 +31,7 @@ void ProgressBar::update(double fraction) {
     if (!enabled_ || std::isnan(fraction)) return;
     fraction = std::clamp(fraction, 0.0, 1.0);
     double seen = fraction_.load(std::memory_order_relaxed);
-    while (fraction > seen && !fraction_.compare_exchange_weak(seen, fraction, std::memory_order_relaxed)) {
-    }
+    while (fraction > seen && !fraction_.compare_exchange_weak(seen, fraction, std::memory_order_relaxed)) {}
     const std::int64_t now = elapsed_ns();
     if (now < next_draw_ns_.load(std::memory_order_relaxed)) return;
     std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);

@@ -31,7 +31,7 @@ public:
 
     bool enabled() const { return enabled_; }
 
-    static constexpr int kWidth = 30;                              // characters between the brackets
+    static constexpr int kWidth = 30;  // characters between the brackets
     static constexpr std::chrono::milliseconds kRedrawInterval{100};
 
 private:

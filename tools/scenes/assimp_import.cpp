@@ -62,10 +62,10 @@ MeshArrays import_with_assimp(const std::string& path) {
     std::vector<std::uint32_t>& indices = out.indices;
     for (unsigned mi = 0; mi < ai->mNumMeshes; ++mi) {
         const aiMesh* mesh = ai->mMeshes[mi];
-        if (mesh == nullptr || !(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || mesh->mVertices == nullptr) continue;
+        if (mesh == nullptr || !(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || mesh->mVertices == nullptr)
+            continue;
         const std::size_t base = vertices.size();
-        if (base + mesh->mNumVertices > std::size_t{0xFFFFFFFFu})
-            throw Error(path + ": more than 2^32 vertices");
+        if (base + mesh->mNumVertices > std::size_t{0xFFFFFFFFu}) throw Error(path + ": more than 2^32 vertices");
         bool used = false;
         for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
             const aiVector3D& p = mesh->mVertices[v];

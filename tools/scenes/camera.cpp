@@ -73,16 +73,15 @@ Camera parse_camera(const std::string& text_in, const std::string& what) {
     c.eye = {v[0], v[1], v[2]};
     c.at = {v[3], v[4], v[5]};
     c.fovy_degrees = v[6];
-    if (c.eye == c.at)
-        throw Error(what + ": eye (EX,EY,EZ) and at (AX,AY,AZ) are the same point " + text(c.eye));
+    if (c.eye == c.at) throw Error(what + ": eye (EX,EY,EZ) and at (AX,AY,AZ) are the same point " + text(c.eye));
     check_fov(c.fovy_degrees, what);
     return c;
 }
 
 std::string format_camera(const Camera& c) {
     char buf[256];
-    std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", double(c.eye.x), double(c.eye.y), double(c.eye.z),
-                  double(c.at.x), double(c.at.y), double(c.at.z), double(c.fovy_degrees));
+    std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", double(c.eye.x), double(c.eye.y),
+                  double(c.eye.z), double(c.at.x), double(c.at.y), double(c.at.z), double(c.fovy_degrees));
     return buf;
 }
 

@@ -21,7 +21,8 @@ std::vector<ProfilePoint> polyline_profile(const std::vector<ProfilePoint>& keys
     const std::size_t segments = keys.size() - 1, extra = count - keys.size();
     std::vector<float> len(segments);
     float total = 0.0f;
-    for (std::size_t i = 0; i < segments; ++i) total += len[i] = std::hypot(keys[i + 1].r - keys[i].r, keys[i + 1].y - keys[i].y);
+    for (std::size_t i = 0; i < segments; ++i)
+        total += len[i] = std::hypot(keys[i + 1].r - keys[i].r, keys[i + 1].y - keys[i].y);
     std::vector<std::size_t> inner(segments);
     std::vector<std::pair<float, std::size_t>> remainder(segments);
     std::size_t given = 0;
@@ -31,7 +32,8 @@ std::vector<ProfilePoint> polyline_profile(const std::vector<ProfilePoint>& keys
         given += inner[i];
         remainder[i] = {share - static_cast<float>(inner[i]), i};
     }
-    std::sort(remainder.begin(), remainder.end(), [](auto a, auto b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
+    std::sort(remainder.begin(), remainder.end(),
+              [](auto a, auto b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
     for (std::size_t k = 0; given < extra; ++k, ++given) ++inner[remainder[k % segments].second];
     std::vector<ProfilePoint> out;
     out.reserve(count);
@@ -63,10 +65,14 @@ void ring(MeshBuilder& m, const Frame& f) { m.add_torus(f * moved({0, 0.3f, 0}),
 void teapot(MeshBuilder& m, const Frame& outer) {
     const Frame f = outer.scaled(0.9f, 0.9f, 0.9f);
     // Body: a squashed ball with a slightly wider shoulder.
-    m.add_lathe(f, curve_profile(60, [](float t) {
-        const float a = kPi * t;
-        return ProfilePoint{0.72f * std::sin(a) * (1.0f + 0.06f * std::sin(2.0f * a)), 0.55f - 0.52f * std::cos(a)};
-    }), 96);
+    m.add_lathe(f,
+                curve_profile(60,
+                              [](float t) {
+                                  const float a = kPi * t;
+                                  return ProfilePoint{0.72f * std::sin(a) * (1.0f + 0.06f * std::sin(2.0f * a)),
+                                                      0.55f - 0.52f * std::cos(a)};
+                              }),
+                96);
     m.add_uv_sphere(f * moved({0, 1.1f, 0}).scaled(0.12f, 0.12f, 0.12f), 32, 10);  // lid knob
     // Spout: a narrowing cone rising from the side of the body.
     const std::vector<ProfilePoint> spout = polyline_profile({{0, 0}, {0.16f, 0}, {0.07f, 0.62f}, {0, 0.62f}}, 22);
@@ -76,16 +82,21 @@ void teapot(MeshBuilder& m, const Frame& outer) {
 }
 
 void vase(MeshBuilder& m, const Frame& f) {
-    m.add_lathe(f, curve_profile(60, [](float t) {
-        const float belly = std::sin(kPi * t);
-        return ProfilePoint{0.3f + 0.55f * belly * belly * (1.0f - 0.4f * t) + 0.04f * std::sin(10.0f * kPi * t), 2.2f * t};
-    }), 128);
+    m.add_lathe(f,
+                curve_profile(60,
+                              [](float t) {
+                                  const float belly = std::sin(kPi * t);
+                                  return ProfilePoint{0.3f + 0.55f * belly * belly * (1.0f - 0.4f * t) +
+                                                          0.04f * std::sin(10.0f * kPi * t),
+                                                      2.2f * t};
+                              }),
+                128);
 }
 
 void cup(MeshBuilder& m, const Frame& outer) {
     const Frame f = outer.scaled(0.82f, 0.82f, 0.82f);
     // Outside down to the foot, up the outer wall, over the rim, down the inner wall, the inside floor.
-    const std::vector<ProfilePoint> keys{{0, 0},       {0.62f, 0},     {0.7f, 0.08f}, {0.75f, 1.2f},
+    const std::vector<ProfilePoint> keys{{0, 0},        {0.62f, 0},     {0.7f, 0.08f}, {0.75f, 1.2f},
                                          {0.68f, 1.2f}, {0.63f, 0.14f}, {0, 0.14f}};
     m.add_lathe(f, polyline_profile(keys, 60), 112);
     m.add_torus(f * Frame::along({0.86f, 0.65f, 0}, {0, 0, 1}), 0.3f, 0.06f, 64, 16);  // handle
@@ -107,7 +118,7 @@ void trefoil_knot(MeshBuilder& m, const Frame& f) {
 }
 
 void bottle(MeshBuilder& m, const Frame& f) {
-    const std::vector<ProfilePoint> keys{{0, 0},        {0.45f, 0},    {0.5f, 0.05f}, {0.5f, 1.1f}, {0.2f, 1.5f},
+    const std::vector<ProfilePoint> keys{{0, 0},        {0.45f, 0},     {0.5f, 0.05f},  {0.5f, 1.1f}, {0.2f, 1.5f},
                                          {0.15f, 1.9f}, {0.18f, 1.95f}, {0.18f, 2.05f}, {0, 2.05f}};
     m.add_lathe(f, polyline_profile(keys, 60), 128);
 }
@@ -124,14 +135,22 @@ void ring_tower(MeshBuilder& m, const Frame& f) {
 
 const char* desk_object_name(DeskObject kind) {
     switch (kind) {
-        case DeskObject::ball: return "ball";
-        case DeskObject::ring: return "ring";
-        case DeskObject::teapot: return "teapot";
-        case DeskObject::vase: return "vase";
-        case DeskObject::cup: return "cup";
-        case DeskObject::trefoil_knot: return "trefoil knot";
-        case DeskObject::bottle: return "bottle";
-        case DeskObject::ring_tower: return "ring tower";
+        case DeskObject::ball:
+            return "ball";
+        case DeskObject::ring:
+            return "ring";
+        case DeskObject::teapot:
+            return "teapot";
+        case DeskObject::vase:
+            return "vase";
+        case DeskObject::cup:
+            return "cup";
+        case DeskObject::trefoil_knot:
+            return "trefoil knot";
+        case DeskObject::bottle:
+            return "bottle";
+        case DeskObject::ring_tower:
+            return "ring tower";
     }
     return "?";
 }
@@ -140,14 +159,30 @@ std::size_t add_desk_object(MeshBuilder& mesh, DeskObject kind, Float3 base, flo
     const std::size_t before = mesh.triangle_count();
     const Frame f = Frame::upright(base, yaw_radians, footprint);
     switch (kind) {
-        case DeskObject::ball: ball(mesh, f); break;
-        case DeskObject::ring: ring(mesh, f); break;
-        case DeskObject::teapot: teapot(mesh, f); break;
-        case DeskObject::vase: vase(mesh, f); break;
-        case DeskObject::cup: cup(mesh, f); break;
-        case DeskObject::trefoil_knot: trefoil_knot(mesh, f); break;
-        case DeskObject::bottle: bottle(mesh, f); break;
-        case DeskObject::ring_tower: ring_tower(mesh, f); break;
+        case DeskObject::ball:
+            ball(mesh, f);
+            break;
+        case DeskObject::ring:
+            ring(mesh, f);
+            break;
+        case DeskObject::teapot:
+            teapot(mesh, f);
+            break;
+        case DeskObject::vase:
+            vase(mesh, f);
+            break;
+        case DeskObject::cup:
+            cup(mesh, f);
+            break;
+        case DeskObject::trefoil_knot:
+            trefoil_knot(mesh, f);
+            break;
+        case DeskObject::bottle:
+            bottle(mesh, f);
+            break;
+        case DeskObject::ring_tower:
+            ring_tower(mesh, f);
+            break;
     }
     return mesh.triangle_count() - before;
 }

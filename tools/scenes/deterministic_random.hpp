@@ -15,9 +15,7 @@ public:
     // Uniform in [lo, hi).
     float uniform(float lo, float hi) { return lo + (hi - lo) * unit(); }
     // Uniform integer in [0, n), n >= 1 (multiply-shift; the tiny bias is irrelevant here).
-    std::uint32_t below(std::uint32_t n) {
-        return static_cast<std::uint32_t>((std::uint64_t{engine_()} * n) >> 32);
-    }
+    std::uint32_t below(std::uint32_t n) { return static_cast<std::uint32_t>((std::uint64_t{engine_()} * n) >> 32); }
 
 private:
     std::mt19937 engine_;

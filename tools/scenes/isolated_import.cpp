@@ -40,7 +40,8 @@ bool write_all(int fd, const void* data, std::size_t n) {
 bool read_all(int fd, void* data, std::size_t n, std::chrono::steady_clock::time_point deadline, bool& late) {
     char* p = static_cast<char*>(data);
     while (n > 0) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+        const auto left =
+            std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
         if (left.count() <= 0) {
             late = true;
             return false;
@@ -122,8 +123,8 @@ MeshArrays import_in_child_process(const std::string& path) {
         if (kind == kArrays) {
             std::uint32_t meshes = 0;
             std::uint64_t nv = 0, ni = 0;
-            if (read_all(fds[0], &meshes, sizeof meshes, deadline, late) && read_all(fds[0], &nv, sizeof nv, deadline, late) &&
-                read_all(fds[0], &ni, sizeof ni, deadline, late)) {
+            if (read_all(fds[0], &meshes, sizeof meshes, deadline, late) &&
+                read_all(fds[0], &nv, sizeof nv, deadline, late) && read_all(fds[0], &ni, sizeof ni, deadline, late)) {
                 m.meshes = meshes;
                 m.vertices.resize(nv);
                 m.indices.resize(ni);
@@ -141,10 +142,10 @@ MeshArrays import_in_child_process(const std::string& path) {
     ::close(fds[0]);
     if (late) ::kill(pid, SIGKILL);
     int status = 0;
-    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    if (late) throw Error("cannot read " + path + ": the importer (Assimp) did not finish within " +
-                          std::to_string(kDeadlineSeconds) + " s");
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+    if (late)
+        throw Error("cannot read " + path + ": the importer (Assimp) did not finish within " +
+                    std::to_string(kDeadlineSeconds) + " s");
     if (WIFSIGNALED(status))
         throw Error("cannot read " + path + ": the importer (Assimp) crashed on it (" + signal_name(WTERMSIG(status)) +
                     "); the file is malformed");

@@ -118,9 +118,7 @@ MeshBuilder unit_icosphere(int subdivisions) {
     MeshBuilder mesh;
     for (const Float3& c : corners) mesh.add_vertex(c);
     const float edge_length = 2.0f / std::sqrt(1.0f + phi * phi);  // normalised edge length
-    auto is_edge = [&](int i, int j) {
-        return std::fabs(length(corners[i] - corners[j]) - edge_length) < 1e-3f;
-    };
+    auto is_edge = [&](int i, int j) { return std::fabs(length(corners[i] - corners[j]) - edge_length) < 1e-3f; };
     for (int i = 0; i < 12; ++i)
         for (int j = i + 1; j < 12; ++j)
             for (int k = j + 1; k < 12; ++k) {
@@ -182,7 +180,8 @@ void MeshBuilder::add_lathe(const Frame& frame, std::span<const ProfilePoint> pr
     for (std::uint32_t j = 0; j < n; ++j) {
         // Going up the profile then round the axis (+angle) is counter-clockwise seen from outside.
         add_triangle(ring(0, j), ring(0, j + 1), bottom);
-        for (std::uint32_t i = 0; i + 1 < rings; ++i) add_quad(ring(i, j), ring(i + 1, j), ring(i + 1, j + 1), ring(i, j + 1));
+        for (std::uint32_t i = 0; i + 1 < rings; ++i)
+            add_quad(ring(i, j), ring(i + 1, j), ring(i + 1, j + 1), ring(i, j + 1));
         add_triangle(ring(rings - 1, j), top, ring(rings - 1, j + 1));
     }
 }
@@ -250,6 +249,8 @@ void MeshBuilder::append(const MeshBuilder& mesh, const Frame& frame) {
     for (std::uint32_t i : mesh.indices_) indices_.push_back(base + i);
 }
 
-Scene MeshBuilder::build() const { return Scene(std::span<const Float3>(vertices_), std::span<const std::uint32_t>(indices_)); }
+Scene MeshBuilder::build() const {
+    return Scene(std::span<const Float3>(vertices_), std::span<const std::uint32_t>(indices_));
+}
 
 }  // namespace beamtrace::scenes

@@ -74,8 +74,7 @@ public:
     // at least 3 points, last joined back to first). 2 * curve.size() * sides triangles.
     void add_tube(const Frame& frame, std::span<const Float3> curve, float radius, int sides);
     // Torus about the frame's +y axis: a tube along a circle. 2 * major_segments * minor_segments.
-    void add_torus(const Frame& frame, float major_radius, float minor_radius, int major_segments,
-                   int minor_segments);
+    void add_torus(const Frame& frame, float major_radius, float minor_radius, int major_segments, int minor_segments);
 
     // Copy another mesh in, placed by `frame` (instancing a template such as a tessellated sphere).
     void append(const MeshBuilder& mesh, const Frame& frame);

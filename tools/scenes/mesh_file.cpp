@@ -67,9 +67,9 @@ SceneSource make_source(const std::string& path, const std::vector<Float3>& vert
     }
     const std::string name = std::filesystem::path(path).filename().string();
     const Camera camera = frame_from_outside(scene->bounds());
-    std::string description = "mesh file " + path + ": " + std::to_string(scene->triangle_count()) +
-                              " triangles, " + std::to_string(scene->vertex_count()) + " vertices from " +
-                              std::to_string(meshes_used) + (meshes_used == 1 ? " mesh" : " meshes");
+    std::string description = "mesh file " + path + ": " + std::to_string(scene->triangle_count()) + " triangles, " +
+                              std::to_string(scene->vertex_count()) + " vertices from " + std::to_string(meshes_used) +
+                              (meshes_used == 1 ? " mesh" : " meshes");
     return SceneSource{name, std::move(*scene), camera, std::move(description)};
 }
 

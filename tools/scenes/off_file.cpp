@@ -74,7 +74,8 @@ std::uint64_t parse_count(OffLines& lines, std::string_view token, const char* w
     if (!token.empty() && token.front() == '-') lines.fail(std::string("negative ") + what + " count " + shown(token));
     std::uint64_t v = 0;
     const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
-    if (ec == std::errc::result_out_of_range) lines.fail(std::string(what) + " count " + shown(token) + " is too large");
+    if (ec == std::errc::result_out_of_range)
+        lines.fail(std::string(what) + " count " + shown(token) + " is too large");
     if (ec != std::errc() || end != token.data() + token.size())
         lines.fail(std::string(what) + " count " + shown(token) + " is not a whole number");
     return v;
@@ -126,7 +127,8 @@ MeshArrays parse_off(std::string_view text, const std::string& name) {
     mesh.vertices.reserve(nv);
     for (std::uint64_t v = 0; v < nv; ++v) {
         if (!lines.next(t))
-            throw Error(name + ": the file ends after " + std::to_string(v) + " of " + std::to_string(nv) + " vertices");
+            throw Error(name + ": the file ends after " + std::to_string(v) + " of " + std::to_string(nv) +
+                        " vertices");
         if (t.size() < 3) lines.fail("vertex " + std::to_string(v) + " has fewer than 3 coordinates");
         Float3 p;
         for (int k = 0; k < 3; ++k) {
@@ -134,13 +136,14 @@ MeshArrays parse_off(std::string_view text, const std::string& name) {
             // (beyond float) are refused like infinities.
             double value = 0.0;
             const auto [end, ec] = std::from_chars(t[k].data(), t[k].data() + t[k].size(), value);
-            if (ec == std::errc::result_out_of_range) value = std::numeric_limits<double>::infinity();
+            if (ec == std::errc::result_out_of_range)
+                value = std::numeric_limits<double>::infinity();
             else if (ec != std::errc() || end != t[k].data() + t[k].size())
                 lines.fail("vertex " + std::to_string(v) + ": coordinate " + shown(t[k]) + " is not a number");
             p[k] = float(value);
             if (!std::isfinite(p[k]))
-                lines.fail("vertex " + std::to_string(v) + " has a NaN or infinite coordinate, or one beyond float's range: " +
-                           shown(t[k]));
+                lines.fail("vertex " + std::to_string(v) +
+                           " has a NaN or infinite coordinate, or one beyond float's range: " + shown(t[k]));
         }
         mesh.vertices.push_back(p);
     }
@@ -161,8 +164,8 @@ MeshArrays parse_off(std::string_view text, const std::string& name) {
                 lines.fail("face " + std::to_string(f) + ": vertex index " + shown(tok) + " is not a whole number");
             if (index < 0) lines.fail("face " + std::to_string(f) + " has a negative vertex index " + shown(tok));
             if (std::uint64_t(index) >= nv)
-                lines.fail("face " + std::to_string(f) + " refers to vertex " + std::to_string(index) + ", out of range (" +
-                           std::to_string(nv) + " vertices)");
+                lines.fail("face " + std::to_string(f) + " refers to vertex " + std::to_string(index) +
+                           ", out of range (" + std::to_string(nv) + " vertices)");
             corners.push_back(std::uint32_t(index));
         }
         for (std::size_t k = 2; k < corners.size(); ++k)  // polygons as fans; points and lines dropped

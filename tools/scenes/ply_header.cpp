@@ -40,9 +40,7 @@ struct Element {
 
 }  // namespace
 
-bool looks_like_ply(std::string_view bytes) {
-    return bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n";
-}
+bool looks_like_ply(std::string_view bytes) { return bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n"; }
 
 void check_ply_header(std::string_view bytes, const std::string& name) {
     auto fail = [&](const std::string& what) -> void { throw Error(name + ": PLY header: " + what); };
@@ -97,8 +95,8 @@ void check_ply_header(std::string_view bytes, const std::string& name) {
         const std::uint64_t each = e.least_bytes > 0 ? e.least_bytes : 1;
         if (e.count > left / each || needed + e.count * each > left)
             fail("it declares " + std::to_string(e.count) + " '" + e.name + "' elements (at least " +
-                 std::to_string(each) + " bytes each) but only " + std::to_string(bytes.size() - std::min(pos, bytes.size())) +
-                 " bytes follow the header");
+                 std::to_string(each) + " bytes each) but only " +
+                 std::to_string(bytes.size() - std::min(pos, bytes.size())) + " bytes follow the header");
         needed += e.count * each;
     }
 }

@@ -52,8 +52,8 @@ void add_chair(MeshBuilder& m, float x, float z) {
 
 // `count` objects in a row along x on a desk top centred at (x, z): each in its own slot, jittered,
 // sized and turned by the random stream.
-void add_desk_objects(MeshBuilder& m, DeterministicRandom& random, float x, float z, float half_width,
-                      float half_depth, int count) {
+void add_desk_objects(MeshBuilder& m, DeterministicRandom& random, float x, float z, float half_width, float half_depth,
+                      int count) {
     const float slot = 2.0f * half_width / static_cast<float>(count);
     for (int i = 0; i < count; ++i) {
         const auto kind = static_cast<DeskObject>(random.below(kDeskObjectKinds));
@@ -93,7 +93,7 @@ SceneSource room(std::uint32_t seed) {
     m.reserve(560'000, 1'040'000);
 
     m.add_box(box(0, kWidth, 0, kHeight, 0, kDepth), Facing::inward);  // floor, ceiling and walls
-    m.add_box(box(5.7f, 6.3f, 0, kHeight, 4.3f, 4.9f));               // the pillar, in the middle aisle
+    m.add_box(box(5.7f, 6.3f, 0, kHeight, 4.3f, 4.9f));                // the pillar, in the middle aisle
     m.add_box(box(4.0f, 8.0f, 0.9f, 2.1f, 0.0f, 0.04f));               // blackboard
     for (float x : {3.0f, 6.0f, 9.0f})                                 // ceiling lights
         for (float z : {3.0f, 6.5f}) m.add_box(box(x - 0.6f, x + 0.6f, kHeight - 0.06f, kHeight, z - 0.15f, z + 0.15f));

@@ -43,10 +43,13 @@ bool is_generator(std::string_view name) {
 std::string scene_spec_help() {
     using std::to_string;
     std::string help;
-    help += "random:N            N small random triangles in the unit cube, N = 1.." + to_string(kMaxRandomTriangles) + "\n";
-    help += "tetra:LEVEL         Sierpinski tetrahedron, 4^(LEVEL+1) triangles, LEVEL = 0.." + to_string(kMaxTetraLevel) + "\n";
+    help += "random:N            N small random triangles in the unit cube, N = 1.." + to_string(kMaxRandomTriangles) +
+            "\n";
+    help += "tetra:LEVEL         Sierpinski tetrahedron, 4^(LEVEL+1) triangles, LEVEL = 0.." +
+            to_string(kMaxTetraLevel) + "\n";
     help += "sphereflake:LEVEL   Haines' sphereflake, LEVEL = 0.." + to_string(kMaxSphereflakeLevel) + "\n";
-    help += "room | room:SEED    furnished classroom of about 1M triangles (default seed " + to_string(kDefaultRoomSeed) + ")\n";
+    help += "room | room:SEED    furnished classroom of about 1M triangles (default seed " +
+            to_string(kDefaultRoomSeed) + ")\n";
     help += "PATH                a mesh file: OBJ, PLY, OFF, STL, glTF, ... (through Assimp)";
     return help;
 }
@@ -66,7 +69,8 @@ SceneSource load_scene(const std::string& spec) {
         if (name == "random")
             return random_triangles(static_cast<std::size_t>(
                 parse_integer(parameter, 1, static_cast<std::int64_t>(kMaxRandomTriangles), what, "triangle count")));
-        if (name == "tetra") return sierpinski_tetra(static_cast<int>(parse_integer(parameter, 0, kMaxTetraLevel, what, "level")));
+        if (name == "tetra")
+            return sierpinski_tetra(static_cast<int>(parse_integer(parameter, 0, kMaxTetraLevel, what, "level")));
         return sphereflake(static_cast<int>(parse_integer(parameter, 0, kMaxSphereflakeLevel, what, "level")));
     }
     if (spec.empty()) throw Error("scene: empty scene spec (give a generator such as room, or a mesh file)");

@@ -11,7 +11,7 @@ namespace beamtrace::scenes {
 struct SceneSource {
     std::string name;  // "room:1", "random:1000", "tetra:6", or the file name for a mesh file
     Scene scene;
-    Camera camera;     // a default view: procedural default, or frame_from_outside for files
+    Camera camera;  // a default view: procedural default, or frame_from_outside for files
     std::string description;
 };
 

@@ -49,8 +49,9 @@ void subdivide(MeshBuilder& mesh, const Lattice& lattice, std::int64_t i, std::i
 
 SceneSource sierpinski_tetra(int level) {
     if (level < 0 || level > kMaxTetraLevel)
-        throw Error("tetra: level " + std::to_string(level) + " must be between 0 and " + std::to_string(kMaxTetraLevel));
-    const double r = 2.0 / std::sqrt(3.0);       // circumradius of the base triangle (edge 2)
+        throw Error("tetra: level " + std::to_string(level) + " must be between 0 and " +
+                    std::to_string(kMaxTetraLevel));
+    const double r = 2.0 / std::sqrt(3.0);  // circumradius of the base triangle (edge 2)
     const double height = 2.0 * std::sqrt(2.0 / 3.0);
     const double pi = std::acos(-1.0);
     double base[3][3];

@@ -14,7 +14,11 @@ namespace {
 
 std::string ordinal(std::size_t n) {
     const std::size_t tens = n % 100, ones = n % 10;
-    const char* suffix = (tens >= 11 && tens <= 13) ? "th" : ones == 1 ? "st" : ones == 2 ? "nd" : ones == 3 ? "rd" : "th";
+    const char* suffix = (tens >= 11 && tens <= 13) ? "th"
+                         : ones == 1                ? "st"
+                         : ones == 2                ? "nd"
+                         : ones == 3                ? "rd"
+                                                    : "th";
     return std::to_string(n) + suffix;
 }
 
@@ -46,7 +50,8 @@ std::vector<float> parse_numbers(std::string_view text, std::span<const std::str
     std::vector<std::string_view> fields;
     for (std::size_t start = 0;;) {
         const std::size_t comma = text.find(',', start);
-        fields.push_back(trim(text.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+        fields.push_back(
+            trim(text.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
         if (comma == std::string_view::npos) break;
         start = comma + 1;
     }
@@ -74,8 +79,8 @@ std::vector<float> parse_numbers(std::string_view text, std::span<const std::str
     return values;
 }
 
-std::int64_t parse_integer(std::string_view text, std::int64_t lowest, std::int64_t highest,
-                           std::string_view what, std::string_view field) {
+std::int64_t parse_integer(std::string_view text, std::int64_t lowest, std::int64_t highest, std::string_view what,
+                           std::string_view field) {
     const std::string_view s = skip_plus(trim(text));
     std::int64_t v = 0;
     const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);

@@ -18,8 +18,8 @@ std::vector<float> parse_numbers(std::string_view text, std::span<const std::str
 
 // A whole decimal number in [lowest, highest] (blanks around it allowed). Throws beamtrace::Error
 // "<what>: <field> "<text>" is not a whole number" or "... must be between lowest and highest".
-std::int64_t parse_integer(std::string_view text, std::int64_t lowest, std::int64_t highest,
-                           std::string_view what, std::string_view field);
+std::int64_t parse_integer(std::string_view text, std::int64_t lowest, std::int64_t highest, std::string_view what,
+                           std::string_view field);
 
 // Removes leading and trailing blanks.
 std::string_view trim(std::string_view text);

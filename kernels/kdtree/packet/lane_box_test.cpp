@@ -1,7 +1,6 @@
 // The per-lane slab test: set-up and scalar reference.
 #include "kdtree/packet/lane_box_test.hpp"
 
-
 namespace beamtrace::kdtree {
 
 LaneBoxRays make_lane_box_rays(const Packet16& packet, float pad) {

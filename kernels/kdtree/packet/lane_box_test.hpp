@@ -5,7 +5,8 @@
 // the hull of a sparse packet touches; this keeps it only if some ray does (shadow packets from a
 // light towards the scattered hit points of 16 pixels: two thirds of the leaves the interval test
 // keeps on `room`). `lanes_meeting_box` is the scalar reference; the SIMD kernels
-// (kernels/simd/kernels_<isa>.cpp, PacketKernels::lane_box) do the same operations in the same order, so their bits are its bits.
+// (kernels/simd/kernels_<isa>.cpp, PacketKernels::lane_box) do the same operations in the same order, so their bits are
+// its bits.
 #include <cmath>
 #include <cstdint>
 

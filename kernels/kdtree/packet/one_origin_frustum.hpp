@@ -16,9 +16,9 @@ namespace beamtrace::kdtree {
 
 struct OneOriginFrustum {
     bool valid = false;
-    int m = 0;          // main axis
+    int m = 0;           // main axis
     int j0 = 1, j1 = 2;  // the two other axes
-    float sm = 1.0f;    // sign of the rays' main component
+    float sm = 1.0f;     // sign of the rays' main component
     Float3 origin;
     Interval slope[3];
     // The farthest any ray of the packet reaches along the main axis (tfar * |dir_m|, widened):

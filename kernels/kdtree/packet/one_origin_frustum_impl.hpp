@@ -23,8 +23,8 @@ xsimd::batch<float, Arch> triangle_coordinate(const Triangle* tris, int live, in
     constexpr int kStride = int(sizeof(Triangle) / sizeof(float));
     static_assert(sizeof(Triangle) == 9 * sizeof(float), "a triangle is nine packed floats");
     if constexpr (std::is_same_v<Arch, xsimd::avx512bw>) {
-        const __m512i index = _mm512_mullo_epi32(_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
-                                                 _mm512_set1_epi32(kStride));
+        const __m512i index = _mm512_mullo_epi32(
+            _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15), _mm512_set1_epi32(kStride));
         const auto on = __mmask16(live >= W ? 0xFFFFu : (1u << live) - 1u);
         return B(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), on, index, base, 4));
     } else if constexpr (std::is_same_v<Arch, xsimd::avx2>) {

@@ -11,10 +11,10 @@
 namespace beamtrace::kdtree {
 
 struct alignas(64) PacketLanes {
-    float speed[16];             // |dir| (any value in lanes outside `valid`)
-    float unit[3][16];           // dir_k * (1 / |dir|)
-    std::uint32_t valid = 0;     // active lanes that describe a segment (ray_validity.hpp)
-    std::uint32_t flat = 0;      // valid lanes with a direction component of magnitude below FLT_MIN
+    float speed[16];                        // |dir| (any value in lanes outside `valid`)
+    float unit[3][16];                      // dir_k * (1 / |dir|)
+    std::uint32_t valid = 0;                // active lanes that describe a segment (ray_validity.hpp)
+    std::uint32_t flat = 0;                 // valid lanes with a direction component of magnitude below FLT_MIN
     std::uint32_t negative[3] = {0, 0, 0};  // sign bit of dir_k, every lane
 };
 PacketLanes packet_lanes(const Packet16& p);

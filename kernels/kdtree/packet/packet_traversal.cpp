@@ -190,7 +190,8 @@ void interval_traversal(const PacketTraversalContext& c, const Packet16& packet,
             const bool cull = frustum.valid && count > kMinCulledLeaf;
             for (std::uint32_t j = 0; j < count; ++j) {
                 if (cull && j % 16 == 0)  // the next 16 triangles decided at once (SIMD)
-                    culled = packet_kernels.frustum_cull(frustum, corners + j, int(std::min<std::uint32_t>(16, count - j)));
+                    culled =
+                        packet_kernels.frustum_cull(frustum, corners + j, int(std::min<std::uint32_t>(16, count - j)));
                 const std::uint32_t id = leaf[j];
                 std::uint32_t& slot = mailbox[id % kMailboxSize];
                 if (slot == id) continue;  // already tested for every lane: the result cannot change
@@ -315,9 +316,10 @@ void trace_packet(const PacketTraversalContext& c, const Packet16& packet, const
     }
 }
 
-#define BEAMTRACE_TRACE_PACKET(kOcclusion, kCount)                                                           \
-    template void trace_packet<kOcclusion, kCount>(const PacketTraversalContext&, const Packet16&, \
-                                                   const TraversalStart&, PacketHits16*, std::uint32_t*, QueryCounters*);
+#define BEAMTRACE_TRACE_PACKET(kOcclusion, kCount)                                                       \
+    template void trace_packet<kOcclusion, kCount>(const PacketTraversalContext&, const Packet16&,       \
+                                                   const TraversalStart&, PacketHits16*, std::uint32_t*, \
+                                                   QueryCounters*);
 BEAMTRACE_TRACE_PACKET(false, false)
 BEAMTRACE_TRACE_PACKET(false, true)
 BEAMTRACE_TRACE_PACKET(true, false)

@@ -25,7 +25,8 @@ bool zero_area(const Triangle& t) {
 }
 
 // Throws unless every id is in range, appears once, and is in the field (want_inserted) or not.
-void check_ids(const VisibilityField::Impl& f, std::span<const std::uint32_t> ids, bool want_inserted, const char* what) {
+void check_ids(const VisibilityField::Impl& f, std::span<const std::uint32_t> ids, bool want_inserted,
+               const char* what) {
     std::vector<std::uint32_t> sorted(ids.begin(), ids.end());
     std::sort(sorted.begin(), sorted.end());
     for (std::size_t k = 0; k < sorted.size(); ++k) {
@@ -55,9 +56,10 @@ void each_built_psf(VisibilityField::Impl& field, F&& f) {
     std::vector<vlf::ParallelSubfield*> built;
     for (auto& p : field.psfs)
         if (p) built.push_back(p.get());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, built.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) f(*built[i]);
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, built.size(), 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i < r.end(); ++i) f(*built[i]);
+                      });
 }
 
 }  // namespace

@@ -105,7 +105,8 @@ void ParallelSubfield::tile_ids(std::uint32_t tile, std::vector<std::uint32_t>& 
     out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
-void ParallelSubfield::rebuild_tile(std::uint32_t tile, std::span<const std::uint32_t> ids, const SubfieldInput& input) {
+void ParallelSubfield::rebuild_tile(std::uint32_t tile, std::span<const std::uint32_t> ids,
+                                    const SubfieldInput& input) {
     TileRef& ref = tiles_[tile];
     if (ref.leaves > 0) {
         const TileBspView old = view(ref);
@@ -169,7 +170,8 @@ void ParallelSubfield::insert(std::span<const std::uint32_t> ids, const Subfield
         if (!input.present[id]) continue;
         Vec3d v[3];
         corners(input, id, v);
-        rasteriser.rasterise(v, [&](int c, int r) { pairs.push_back(((std::uint64_t(r) * n + std::uint64_t(c)) << 32) | id); });
+        rasteriser.rasterise(
+            v, [&](int c, int r) { pairs.push_back(((std::uint64_t(r) * n + std::uint64_t(c)) << 32) | id); });
     }
     std::sort(pairs.begin(), pairs.end());
     std::vector<std::uint32_t> current;

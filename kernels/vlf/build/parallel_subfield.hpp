@@ -40,7 +40,9 @@ public:
     TileRef tile(std::uint32_t index) const { return tiles_[index]; }
     TileBspView view(TileRef ref) const { return TileBspView{pool_.data() + ref.offset, ref.leaves}; }
     // Asks the cache for a tile's entry, or for words [first, first + count) of its block.
-    void prefetch_tile(std::uint32_t index) const { _mm_prefetch(reinterpret_cast<const char*>(&tiles_[index]), _MM_HINT_T0); }
+    void prefetch_tile(std::uint32_t index) const {
+        _mm_prefetch(reinterpret_cast<const char*>(&tiles_[index]), _MM_HINT_T0);
+    }
     void prefetch_block(TileRef ref, std::uint32_t first, std::uint32_t count) const {
         const char* a = reinterpret_cast<const char*>(pool_.data() + ref.offset + first);
         const char* b = reinterpret_cast<const char*>(pool_.data() + ref.offset + first + (count ? count : 1));
@@ -53,7 +55,7 @@ public:
     void remove(std::span<const std::uint32_t> ids, const SubfieldInput& input);
     void insert(std::span<const std::uint32_t> ids, const SubfieldInput& input);
 
-    std::size_t entries() const { return entries_; }      // triangle ids over all leaves
+    std::size_t entries() const { return entries_; }  // triangle ids over all leaves
     std::size_t leaves() const { return leaves_; }
     std::size_t memory_bytes() const;
     double build_seconds() const { return build_seconds_; }
@@ -77,7 +79,7 @@ private:
     std::vector<TileRef> tiles_;
     std::vector<std::uint32_t> room_;  // words the block of each tile may grow to in place
     std::vector<std::uint32_t> pool_;
-    std::size_t garbage_ = 0;          // pool words no tile uses any more (moved blocks)
+    std::size_t garbage_ = 0;  // pool words no tile uses any more (moved blocks)
     std::size_t entries_ = 0, leaves_ = 0;
     double build_seconds_ = 0.0;
 

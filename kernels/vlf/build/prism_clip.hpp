@@ -33,7 +33,7 @@ inline bool clip_to_prism(const Vec3d* v, const Prism& p, ClippedBox& out) {
     int n = 3;
     for (int k = 0; k < 3; ++k) buf[0][k] = v[k];
     int cur = 0;
-    const bool cross[4] = {bx0 < p.x0, bx1 > p.x1, by0 < p.y0, by1 > p.y1};
+    const bool cross[4] = {bx0<p.x0, bx1> p.x1, by0<p.y0, by1> p.y1};
     for (int plane = 0; plane < 4; ++plane) {
         if (!cross[plane]) continue;
         // Plane `plane` keeps points with sign * (coordinate - bound) <= 0.
@@ -63,9 +63,12 @@ inline bool clip_to_prism(const Vec3d* v, const Prism& p, ClippedBox& out) {
     out = ClippedBox{q0.x, q0.x, q0.y, q0.y, q0.z, q0.z};
     for (int k = 1; k < n; ++k) {
         const Vec3d& q = buf[cur][k];
-        out.xlo = std::min(out.xlo, q.x); out.xhi = std::max(out.xhi, q.x);
-        out.ylo = std::min(out.ylo, q.y); out.yhi = std::max(out.yhi, q.y);
-        out.zlo = std::min(out.zlo, q.z); out.zhi = std::max(out.zhi, q.z);
+        out.xlo = std::min(out.xlo, q.x);
+        out.xhi = std::max(out.xhi, q.x);
+        out.ylo = std::min(out.ylo, q.y);
+        out.yhi = std::max(out.yhi, q.y);
+        out.zlo = std::min(out.zlo, q.z);
+        out.zhi = std::max(out.zhi, q.z);
     }
     return true;
 }

@@ -37,10 +37,10 @@ std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vecto
     for (std::size_t j = 0; grouped && j < ends_.size(); ++j) {
         const std::size_t a = j == 0 ? 0 : ends_[j - 1], b = ends_[j];
         order_.clear();
-        for (std::size_t k = a; k < b; ++k) order_.push_back({footprint_order(footprints_[k]), ids_[k], footprints_[k]});
-        std::sort(order_.begin(), order_.end(), [](const Ordered& x, const Ordered& y) {
-            return x.key != y.key ? x.key < y.key : x.id < y.id;
-        });
+        for (std::size_t k = a; k < b; ++k)
+            order_.push_back({footprint_order(footprints_[k]), ids_[k], footprints_[k]});
+        std::sort(order_.begin(), order_.end(),
+                  [](const Ordered& x, const Ordered& y) { return x.key != y.key ? x.key < y.key : x.id < y.id; });
         for (std::size_t k = a; k < b; ++k) {
             ids_[k] = order_[k - a].id;
             footprints_[k] = order_[k - a].footprint;

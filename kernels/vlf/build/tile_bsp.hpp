@@ -46,7 +46,7 @@ struct TileBspView {
     std::uint32_t begin(std::uint32_t j) const { return j == 0 ? 0 : ends()[j - 1]; }
     std::uint32_t end(std::uint32_t j) const { return ends()[j]; }
     std::uint32_t entries() const { return end(leaves - 1); }
-    static constexpr std::uint32_t kGroup = 16;  // entries per group
+    static constexpr std::uint32_t kGroup = 16;         // entries per group
     static constexpr std::uint32_t kGroupedTile = 256;  // tiles of at least this many entries have groups
     std::uint32_t groups_count() const {
         const std::uint32_t e = entries();

@@ -20,8 +20,7 @@ namespace beamtrace::vlf {
 
 class TileRasteriser {
 public:
-    explicit TileRasteriser(const TileGrid& grid)
-        : grid_(grid), lo_(std::size_t(grid.n)), hi_(std::size_t(grid.n)) {}
+    explicit TileRasteriser(const TileGrid& grid) : grid_(grid), lo_(std::size_t(grid.n)), hi_(std::size_t(grid.n)) {}
 
     // Calls emit(column, row) once for every tile the padded triangle touches, row by row.
     template <class Emit>

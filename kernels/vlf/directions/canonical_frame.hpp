@@ -34,7 +34,7 @@ struct TileGrid {
     int n = 128;          // tiles per side
     double h = 0.0;       // tile side, 2 R / n
     double inv_h = 0.0;
-    double pad = 0.0;     // padding of triangles (across and along the beam)
+    double pad = 0.0;            // padding of triangles (across and along the beam)
     double lattice_scale = 0.0;  // footprint lattice cells per unit of length (tile_footprint.hpp)
 
     static TileGrid around(const Box& box, int n) {

@@ -12,10 +12,10 @@
 namespace beamtrace::vlf {
 
 struct CanonicalRay {
-    double ox, oy, oz;  // origin
-    double dx, dy, dz;  // direction
-    double t0, t1;      // the segment inside the box and inside [tnear, tfar]
-    int column, row;    // tile of the point at t0
+    double ox, oy, oz;              // origin
+    double dx, dy, dz;              // direction
+    double t0, t1;                  // the segment inside the box and inside [tnear, tfar]
+    int column, row;                // tile of the point at t0
     double inv_dx, inv_dy, inv_dz;  // 1 / d (infinite for a zero component)
 };
 
@@ -56,8 +56,12 @@ inline bool make_canonical_ray(const CanonicalFrame& frame, const TileGrid& grid
                                CanonicalRay& out) {
     if (!clip_to_world_box(box, ray, out.t0, out.t1)) return false;
     const Vec3d o = frame.point(ray.org, grid), d = frame.rotate(to_double(ray.dir));
-    out.ox = o.x; out.oy = o.y; out.oz = o.z;
-    out.dx = d.x; out.dy = d.y; out.dz = d.z;
+    out.ox = o.x;
+    out.oy = o.y;
+    out.oz = o.z;
+    out.dx = d.x;
+    out.dy = d.y;
+    out.dz = d.z;
     out.column = grid.cell(o.x + out.t0 * d.x);
     out.row = grid.cell(o.y + out.t0 * d.y);
     out.inv_dx = 1.0 / d.x;

@@ -66,7 +66,10 @@ D3 lattice_direction(int i, int j, int m) {
 // The square cell [u0, u1] x [v0, v1] (grown by kCellGrowth) clipped to its octant's side of the
 // rim, su * u + sv * v <= 1 + kCellGrowth; returns the corners of the clipped polygon.
 int clipped_cell(double u0, double u1, double v0, double v1, double (*out)[2]) {
-    u0 -= kCellGrowth; v0 -= kCellGrowth; u1 += kCellGrowth; v1 += kCellGrowth;
+    u0 -= kCellGrowth;
+    v0 -= kCellGrowth;
+    u1 += kCellGrowth;
+    v1 += kCellGrowth;
     const double su = (u0 + u1) > 0.0 ? 1.0 : -1.0, sv = (v0 + v1) > 0.0 ? 1.0 : -1.0;
     const double in[4][2] = {{u0, v0}, {u1, v0}, {u1, v1}, {u0, v1}};
     auto f = [&](const double* p) { return 1.0 + kCellGrowth - (su * p[0] + sv * p[1]); };  // >= 0 inside
@@ -75,7 +78,11 @@ int clipped_cell(double u0, double u1, double v0, double v1, double (*out)[2]) {
         const double* a = in[k];
         const double* b = in[(k + 1) % 4];
         const double fa = f(a), fb = f(b);
-        if (fa >= 0.0) { out[n][0] = a[0]; out[n][1] = a[1]; ++n; }
+        if (fa >= 0.0) {
+            out[n][0] = a[0];
+            out[n][1] = a[1];
+            ++n;
+        }
         if ((fa >= 0.0) != (fb >= 0.0)) {
             const double s = fa / (fa - fb);
             out[n][0] = a[0] + s * (b[0] - a[0]);
@@ -86,9 +93,7 @@ int clipped_cell(double u0, double u1, double v0, double v1, double (*out)[2]) {
     return n;
 }
 
-D3 octahedral_point(double u, double v) {
-    return normalized({u, v, std::max(0.0, 1.0 - std::fabs(u) - std::fabs(v))});
-}
+D3 octahedral_point(double u, double v) { return normalized({u, v, std::max(0.0, 1.0 - std::fabs(u) - std::fabs(v))}); }
 
 }  // namespace
 
@@ -177,7 +182,8 @@ DirectionSet::DirectionSet(int count) {
     impl->candidate_pairs.assign(lists.size() * k / 2, 0);
     for (std::size_t c = 0; c < lists.size(); ++c)
         for (std::size_t i = 0; i < k; ++i)
-            impl->candidate_pairs[(c * k + i) / 2] |= std::uint32_t(lists[c][i < lists[c].size() ? i : 0]) << (16 * (i & 1));
+            impl->candidate_pairs[(c * k + i) / 2] |= std::uint32_t(lists[c][i < lists[c].size() ? i : 0])
+                                                      << (16 * (i & 1));
     impl_ = std::move(impl);
 }
 

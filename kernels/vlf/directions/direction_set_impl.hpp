@@ -23,9 +23,9 @@ struct DirectionSet::Impl {
     std::vector<Float3> dirs;
     std::vector<float> dx, dy, dz;  // the same, structure of arrays (SIMD gathers)
 
-    int table = 0;        // T: cells per side of the lookup table
-    int per_cell = 0;     // K: candidates per cell (even)
-    float half_table = 0; // T / 2
+    int table = 0;         // T: cells per side of the lookup table
+    int per_cell = 0;      // K: candidates per cell (even)
+    float half_table = 0;  // T / 2
     // T * T * K / 2 words; candidate k of cell (iu, iv) is half k % 2 (low first) of word
     // (iv * T + iu) * K / 2 + k / 2.
     std::vector<std::uint32_t> candidate_pairs;

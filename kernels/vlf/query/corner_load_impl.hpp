@@ -20,8 +20,8 @@ namespace {
 inline constexpr int kCopiedCorners = 6;  // at most this many triangles are copied, not gathered
 
 [[gnu::always_inline]] inline simd::Corners<xsimd::avx512bw> ray_corners(const WatertightRay& ray,
-                                                                        const Triangle* triangles,
-                                                                        const std::uint32_t* ids, __mmask16 lanes) {
+                                                                         const Triangle* triangles,
+                                                                         const std::uint32_t* ids, __mmask16 lanes) {
     using B = xsimd::batch<float, xsimd::avx512bw>;
     const float* o = &ray.org.x;
     const int kx = ray.kx, ky = ray.ky, kz = ray.kz;
@@ -34,9 +34,15 @@ inline constexpr int kCopiedCorners = 6;  // at most this many triangles are cop
             for (int c = 0; c < 9; ++c) comp[c][i] = v[c];
         }
         auto at = [&](int c, int axis) { return B(_mm512_maskz_load_ps(lanes, comp[3 * c + axis])) - B(o[axis]); };
-        k.ax = at(0, kx); k.ay = at(0, ky); k.az = at(0, kz);
-        k.bx = at(1, kx); k.by = at(1, ky); k.bz = at(1, kz);
-        k.cx = at(2, kx); k.cy = at(2, ky); k.cz = at(2, kz);
+        k.ax = at(0, kx);
+        k.ay = at(0, ky);
+        k.az = at(0, kz);
+        k.bx = at(1, kx);
+        k.by = at(1, ky);
+        k.bz = at(1, kz);
+        k.cx = at(2, kx);
+        k.cy = at(2, ky);
+        k.cz = at(2, kz);
         return k;
     }
     const __m512i at = _mm512_mullo_epi32(_mm512_maskz_loadu_epi32(lanes, ids), _mm512_set1_epi32(9));
@@ -45,9 +51,15 @@ inline constexpr int kCopiedCorners = 6;  // at most this many triangles are cop
         const __m512i index = _mm512_add_epi32(at, _mm512_set1_epi32(3 * c + axis));
         return B(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), lanes, index, base, 4)) - B(o[axis]);
     };
-    k.ax = corner(0, kx); k.ay = corner(0, ky); k.az = corner(0, kz);
-    k.bx = corner(1, kx); k.by = corner(1, ky); k.bz = corner(1, kz);
-    k.cx = corner(2, kx); k.cy = corner(2, ky); k.cz = corner(2, kz);
+    k.ax = corner(0, kx);
+    k.ay = corner(0, ky);
+    k.az = corner(0, kz);
+    k.bx = corner(1, kx);
+    k.by = corner(1, ky);
+    k.bz = corner(1, kz);
+    k.cx = corner(2, kx);
+    k.cy = corner(2, ky);
+    k.cz = corner(2, kz);
     return k;
 }
 #endif

@@ -19,9 +19,8 @@ namespace {
 #if defined(__AVX512BW__)
 [[maybe_unused]] bool closest_entries_avx512(const WatertightRay& ray, const Triangle* triangles,
                                              const std::uint32_t* order, const std::uint32_t* footprints,
-                                             const std::uint32_t* ids,
-                                             std::uint32_t count, std::uint32_t ray_footprint, TestedIds& tested,
-                                             Hit& best) {
+                                             const std::uint32_t* ids, std::uint32_t count, std::uint32_t ray_footprint,
+                                             TestedIds& tested, Hit& best) {
     using Arch = xsimd::avx512bw;
     using B = xsimd::batch<float, Arch>;
     const __m512i r = _mm512_set1_epi32(int(ray_footprint));
@@ -56,7 +55,8 @@ namespace {
                                                            B(ray.tfar), std::uint32_t(fresh), lanes, 0);
     for (std::uint32_t m = bits; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
-        if (nearer_hit(lanes.t[i], candidates[i], best, order)) best = Hit{lanes.t[i], candidates[i], lanes.u[i], lanes.v[i]};
+        if (nearer_hit(lanes.t[i], candidates[i], best, order))
+            best = Hit{lanes.t[i], candidates[i], lanes.u[i], lanes.v[i]};
     }
     return true;
 }

@@ -25,11 +25,13 @@ inline constexpr std::uint32_t kEntryCandidates = 16;
 // the caller knows the ids are distinct (entries of one leaf), so no repeats are looked for.
 using OccludeEntriesFn = EntriesAnswer (*)(const WatertightRay& ray, const Triangle* triangles,
                                            const std::uint32_t* footprints, const std::uint32_t* ids,
-                                           std::uint32_t count, std::uint32_t ray_footprint, bool distinct, std::uint32_t* hit);
+                                           std::uint32_t count, std::uint32_t ray_footprint, bool distinct,
+                                           std::uint32_t* hit);
 
 inline EntriesAnswer occlude_entries_scalar(const WatertightRay& ray, const Triangle* triangles,
                                             const std::uint32_t* footprints, const std::uint32_t* ids,
-                                            std::uint32_t count, std::uint32_t ray_footprint, bool distinct, std::uint32_t* hit) {
+                                            std::uint32_t count, std::uint32_t ray_footprint, bool distinct,
+                                            std::uint32_t* hit) {
     std::uint32_t candidates[kEntryCandidates];
     std::uint32_t n = 0;
     for (std::uint32_t k = 0; k < count; ++k) {

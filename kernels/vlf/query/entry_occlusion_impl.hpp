@@ -37,7 +37,8 @@ namespace {
         n += std::uint32_t(__builtin_popcount(pass));
         // More than kEntryCandidates passing entries: repeats may still bring the distinct ids
         // down to kEntryCandidates; the reference decides (rare).
-        if (n > kEntryCandidates) return occlude_entries_scalar(ray, triangles, footprints, ids, count, ray_footprint, distinct, hit);
+        if (n > kEntryCandidates)
+            return occlude_entries_scalar(ray, triangles, footprints, ids, count, ray_footprint, distinct, hit);
     }
     if (n == 0) return EntriesAnswer::clear;
     const __mmask16 valid = n == 16 ? __mmask16(0xFFFF) : __mmask16((1u << n) - 1u);

@@ -25,11 +25,15 @@ void rays_as_packets(std::span<const Ray> rays, Out* out, std::size_t begin, std
             for (std::size_t i = 0; i < 16; ++i) packets[p].set_ray(int(i), rays[base + std::min(i, lanes - 1)]);
             packets[p].active = lanes == 16 ? 0xFFFFu : (1u << lanes) - 1u;
         }
-        if constexpr (kOcclusion) trace(std::span<const Packet16>(packets.data(), count), std::span(bits.data(), count));
-        else trace(std::span<const Packet16>(packets.data(), count), std::span(hits.data(), count));
+        if constexpr (kOcclusion)
+            trace(std::span<const Packet16>(packets.data(), count), std::span(bits.data(), count));
+        else
+            trace(std::span<const Packet16>(packets.data(), count), std::span(hits.data(), count));
         for (std::size_t k = 0; k < n; ++k) {
-            if constexpr (kOcclusion) out[first + k] = std::uint8_t((bits[k / 16] >> (k % 16)) & 1u);
-            else out[first + k] = hits[k / 16].hit(int(k % 16));
+            if constexpr (kOcclusion)
+                out[first + k] = std::uint8_t((bits[k / 16] >> (k % 16)) & 1u);
+            else
+                out[first + k] = hits[k / 16].hit(int(k % 16));
         }
     }
 }
@@ -62,9 +66,10 @@ void VisibilityField::occluded(std::span<const Ray> rays, std::span<std::uint8_t
         return;
     }
     run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
-        rays_as_packets<true>(rays, occluded.data(), b, e, [&](std::span<const Packet16> p, std::span<std::uint32_t> o) {
-            this->occluded(p, o, mode, impl_->options.order);
-        });
+        rays_as_packets<true>(rays, occluded.data(), b, e,
+                              [&](std::span<const Packet16> p, std::span<std::uint32_t> o) {
+                                  this->occluded(p, o, mode, impl_->options.order);
+                              });
     });
 }
 
@@ -75,8 +80,8 @@ void VisibilityField::intersect(std::span<const Packet16> packets, std::span<Pac
     if (options.counters) {
         for (std::size_t p = 0; p < packets.size(); ++p)
             for (int i = 0; i < 16; ++i)
-                hits[p].set_hit(i, ((packets[p].active >> i) & 1u) ? intersect(packets[p].ray(i), mode, *options.counters)
-                                                                   : Hit{});
+                hits[p].set_hit(
+                    i, ((packets[p].active >> i) & 1u) ? intersect(packets[p].ray(i), mode, *options.counters) : Hit{});
         return;
     }
     run_query_parts(packets.size(), options, [&](std::size_t b, std::size_t e) {

@@ -8,8 +8,8 @@
 namespace beamtrace::vlf {
 
 inline WalkContext walk_context(const VisibilityField::Impl& f) {
-    return WalkContext{&f.grid,   f.triangles.data(),      f.triangles.size(),      f.order.data(),          f.kernels,
-                       f.simd->scan_footprints, f.simd->occlude_entries, f.simd->closest_entries};
+    return WalkContext{&f.grid,   f.triangles.data(),      f.triangles.size(),      f.order.data(),
+                       f.kernels, f.simd->scan_footprints, f.simd->occlude_entries, f.simd->closest_entries};
 }
 
 template <bool kOcclusion, bool kCount>
@@ -19,7 +19,8 @@ Hit walk_field(const VisibilityField::Impl& f, const ParallelSubfield& psf, cons
     // Occlusion along a segment inside one tile (AO rays along PSF directions, mode fast): one
     // fused kernel. The counting walks keep TileWalk, which tests the same triangles and counts them.
     if constexpr (kOcclusion && !kCount) {
-        if (mode == VlfMode::fast ? segment_in_first_tile<true>(f.grid, cr) : segment_in_first_tile<false>(f.grid, cr)) {
+        if (mode == VlfMode::fast ? segment_in_first_tile<true>(f.grid, cr)
+                                  : segment_in_first_tile<false>(f.grid, cr)) {
             Hit h;
             const EntriesAnswer a = occlude_in_first_tile(psf, ctx, cr, ray, h.triangle);
             if (a != EntriesAnswer::too_many) return h;

@@ -10,7 +10,7 @@ namespace {
 
 // footprints[k] passes when every byte is <= the ray's byte: max(f, ray) == ray per 32-bit lane.
 [[maybe_unused]] std::uint32_t scan_sse42(const std::uint32_t* footprints, std::uint32_t count, std::uint32_t ray,
-                         std::uint32_t* passing) {
+                                          std::uint32_t* passing) {
     const __m128i r = _mm_set1_epi32(int(ray));
     std::uint32_t n = 0, k = 0;
     for (; k + 4 <= count; k += 4) {
@@ -30,7 +30,7 @@ namespace {
 
 #if defined(__AVX2__)
 [[maybe_unused]] std::uint32_t scan_avx2(const std::uint32_t* footprints, std::uint32_t count, std::uint32_t ray,
-                        std::uint32_t* passing) {
+                                         std::uint32_t* passing) {
     const __m256i r = _mm256_set1_epi32(int(ray));
     std::uint32_t n = 0, k = 0;
     for (; k + 8 <= count; k += 8) {
@@ -47,7 +47,7 @@ namespace {
 
 #if defined(__AVX512BW__)
 [[maybe_unused]] std::uint32_t scan_avx512(const std::uint32_t* footprints, std::uint32_t count, std::uint32_t ray,
-                          std::uint32_t* passing) {
+                                           std::uint32_t* passing) {
     const __m512i r = _mm512_set1_epi32(int(ray));
     const __m512i step = _mm512_set1_epi32(16);
     __m512i index = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);

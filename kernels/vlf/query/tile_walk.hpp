@@ -48,10 +48,10 @@ inline std::uint32_t ray_footprint(const FootprintLattice& lattice, const Canoni
 template <bool kFast>
 double first_tile_exit(const TileGrid& g, const CanonicalRay& cr) {
     if constexpr (kFast) return cr.t1;
-    const double tx = cr.dx > 0.0 ? (g.edge(cr.column + 1) - cr.ox) * cr.inv_dx
+    const double tx = cr.dx > 0.0   ? (g.edge(cr.column + 1) - cr.ox) * cr.inv_dx
                       : cr.dx < 0.0 ? (g.edge(cr.column) - cr.ox) * cr.inv_dx
                                     : std::numeric_limits<double>::infinity();
-    const double ty = cr.dy > 0.0 ? (g.edge(cr.row + 1) - cr.oy) * cr.inv_dy
+    const double ty = cr.dy > 0.0   ? (g.edge(cr.row + 1) - cr.oy) * cr.inv_dy
                       : cr.dy < 0.0 ? (g.edge(cr.row) - cr.oy) * cr.inv_dy
                                     : std::numeric_limits<double>::infinity();
     double exit = tx < ty ? tx : ty;
@@ -87,7 +87,8 @@ inline EntriesAnswer occlude_in_first_tile(const ParallelSubfield& psf, const Wa
     // hit than scanned whole before any test.
     if (count > kFusedEntries) return EntriesAnswer::too_many;
     const std::uint32_t footprint = ray_footprint(FootprintLattice::of_tile(g, cr.column, cr.row), cr, cr.t0, cr.t1);
-    return ctx.occlude(ray, ctx.triangles, bsp.footprints() + first, bsp.ids() + first, count, footprint, j0 == j1, &hit);
+    return ctx.occlude(ray, ctx.triangles, bsp.footprints() + first, bsp.ids() + first, count, footprint, j0 == j1,
+                       &hit);
 }
 
 template <bool kOcclusion, bool kFast, bool kCount>
@@ -106,8 +107,12 @@ public:
         }
         constexpr double kInf = std::numeric_limits<double>::infinity();
         const double inv_x = cr.inv_dx, inv_y = cr.inv_dy;
-        auto next_x = [&] { return cr.dx > 0.0 ? (g.edge(c + 1) - cr.ox) * inv_x : cr.dx < 0.0 ? (g.edge(c) - cr.ox) * inv_x : kInf; };
-        auto next_y = [&] { return cr.dy > 0.0 ? (g.edge(r + 1) - cr.oy) * inv_y : cr.dy < 0.0 ? (g.edge(r) - cr.oy) * inv_y : kInf; };
+        auto next_x = [&] {
+            return cr.dx > 0.0 ? (g.edge(c + 1) - cr.ox) * inv_x : cr.dx < 0.0 ? (g.edge(c) - cr.ox) * inv_x : kInf;
+        };
+        auto next_y = [&] {
+            return cr.dy > 0.0 ? (g.edge(r + 1) - cr.oy) * inv_y : cr.dy < 0.0 ? (g.edge(r) - cr.oy) * inv_y : kInf;
+        };
         double tx = next_x(), ty = next_y(), enter = cr.t0;
         for (;;) {
             double exit = tx < ty ? tx : ty;
@@ -280,8 +285,10 @@ private:
             return false;
         }
         LaneHits lanes;
-        if (n <= 4) ctx_.kernels->ray_x4(wray_, batch, n, lanes);
-        else ctx_.kernels->ray_x8(wray_, batch, n, lanes);
+        if (n <= 4)
+            ctx_.kernels->ray_x4(wray_, batch, n, lanes);
+        else
+            ctx_.kernels->ray_x8(wray_, batch, n, lanes);
         if constexpr (kOcclusion) {
             if (lanes.mask) {
                 best_.triangle = ids[__builtin_ctz(lanes.mask)];
@@ -311,13 +318,13 @@ private:
     QueryCounters* counters_;
     Hit best_;
     static constexpr std::uint32_t kListed = 32;
-    static constexpr std::uint32_t kScanChunk = 128;  // entries scanned per call of the kernel
+    static constexpr std::uint32_t kScanChunk = 128;            // entries scanned per call of the kernel
     static constexpr std::uint32_t kGroupScan = kDirectGroups;  // longer runs (in groups) are scanned group-wise
-    static constexpr std::uint32_t kGroupBox = 32;    // by rays whose box is at most this wide and high
+    static constexpr std::uint32_t kGroupBox = 32;              // by rays whose box is at most this wide and high
     std::uint32_t listed_ids_[kListed + 16];  // ids tested in the first leaf, before the mailbox (+ 16: TestedIds)
     std::uint32_t listed_ = 0;
     std::uint64_t listed_filter_[4] = {0, 0, 0, 0};  // bit (id & 255) set: id may be listed
-    bool distinct_ = true;  // every id met so far came from one leaf (no repeats possible)
+    bool distinct_ = true;                           // every id met so far came from one leaf (no repeats possible)
     Mailbox* mailbox_ = nullptr;
 };
 

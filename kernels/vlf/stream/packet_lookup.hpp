@@ -51,14 +51,18 @@ struct alignas(64) PacketLookup {
     std::uint32_t one_tile = 0;  // bit i (of valid lanes): the segment lies in its first tile
 
     CanonicalRay ray(int i) const {
-        return CanonicalRay{ox[i], oy[i], oz[i], dx[i],     dy[i],     dz[i],     t0[i],
+        return CanonicalRay{ox[i], oy[i],     oz[i],  dx[i],     dy[i],     dz[i],    t0[i],
                             t1[i], column[i], row[i], inv_dx[i], inv_dy[i], inv_dz[i]};
     }
     WatertightRay watertight(int i, const Packet16& p) const {
         WatertightRay w;
         w.org = Float3{p.org_x[i], p.org_y[i], p.org_z[i]};
-        w.kx = kx[i]; w.ky = ky[i]; w.kz = kz[i];
-        w.sx = sx[i]; w.sy = sy[i]; w.sz = sz[i];
+        w.kx = kx[i];
+        w.ky = ky[i];
+        w.kz = kz[i];
+        w.sx = sx[i];
+        w.sy = sy[i];
+        w.sz = sz[i];
         w.tnear = p.tnear[i];
         w.tfar = p.tfar[i];
         return w;
@@ -66,7 +70,8 @@ struct alignas(64) PacketLookup {
 };
 
 // first_tiles: also z0, z1, footprint and one_tile (else those are left unset and one_tile is 0).
-using LookupPacketFn = void (*)(const LookupTables& tables, const Packet16& packet, PacketLookup& out, bool first_tiles);
+using LookupPacketFn = void (*)(const LookupTables& tables, const Packet16& packet, PacketLookup& out,
+                                bool first_tiles);
 
 // The tables of a field's direction set, frames, grid and box (the vector keeps the frames).
 struct LookupStorage {

@@ -22,10 +22,14 @@ xsimd::batch<T, Arch> gather(const T* base, const xsimd::batch<I, Arch>& index) 
     using B = xsimd::batch<T, Arch>;
     constexpr bool avx512 = std::is_base_of_v<xsimd::avx512f, Arch>;
     constexpr bool avx2 = std::is_base_of_v<xsimd::avx2, Arch>;
-    if constexpr (avx512 && std::is_same_v<T, float>) return B(_mm512_i32gather_ps(index, base, 4));
-    else if constexpr (avx512 && std::is_same_v<T, std::int32_t>) return B(_mm512_i32gather_epi32(index, base, 4));
-    else if constexpr (avx512 && std::is_same_v<T, double>) return B(_mm512_i64gather_pd(index, base, 8));
-    else if constexpr (avx2 && std::is_same_v<T, float>) return B(_mm256_i32gather_ps(base, index, 4));
+    if constexpr (avx512 && std::is_same_v<T, float>)
+        return B(_mm512_i32gather_ps(index, base, 4));
+    else if constexpr (avx512 && std::is_same_v<T, std::int32_t>)
+        return B(_mm512_i32gather_epi32(index, base, 4));
+    else if constexpr (avx512 && std::is_same_v<T, double>)
+        return B(_mm512_i64gather_pd(index, base, 8));
+    else if constexpr (avx2 && std::is_same_v<T, float>)
+        return B(_mm256_i32gather_ps(base, index, 4));
     else if constexpr (avx2 && std::is_same_v<T, std::int32_t>)
         return B(_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), index, 4));
     else if constexpr (avx2 && std::is_same_v<T, double>)
@@ -138,7 +142,9 @@ void first_tiles(const LookupTables& t, const xsimd::batch<double, Arch>* co, co
     for (int k = 0; k < int(BD::size); ++k) out.z1[base + k] = float(z[k]);
     // FootprintLattice::ray over [t0, t1]: floor of the lattice coordinate, clamped to [0, 255].
     const BD scale(t.lattice_scale), pad(t.pad), top(255.0);
-    auto cell_of = [&](const BD& q) { return xsimd::select(q < one, zero, xsimd::select(q >= top, top, xsimd::trunc(q))); };
+    auto cell_of = [&](const BD& q) {
+        return xsimd::select(q < one, zero, xsimd::select(q >= top, top, xsimd::trunc(q)));
+    };
     BD lo[2], hi[2];
     for (int a = 0; a < 2; ++a) {
         const BD origin = edge(cell[a]) - pad;
@@ -206,8 +212,12 @@ void canonical_rays(const LookupTables& t, const double (*in)[16], const std::in
         co[r] = (m[3 * r] * px + m[3 * r + 1] * py) + m[3 * r + 2] * pz;
         cd[r] = (m[3 * r] * d[0] + m[3 * r + 1] * d[1]) + m[3 * r + 2] * d[2];
     }
-    co[0].store_aligned(out.ox + base); co[1].store_aligned(out.oy + base); co[2].store_aligned(out.oz + base);
-    cd[0].store_aligned(out.dx + base); cd[1].store_aligned(out.dy + base); cd[2].store_aligned(out.dz + base);
+    co[0].store_aligned(out.ox + base);
+    co[1].store_aligned(out.oy + base);
+    co[2].store_aligned(out.oz + base);
+    cd[0].store_aligned(out.dx + base);
+    cd[1].store_aligned(out.dy + base);
+    cd[2].store_aligned(out.dz + base);
     (BD(1.0) / cd[0]).store_aligned(out.inv_dx + base);
     (BD(1.0) / cd[1]).store_aligned(out.inv_dy + base);
     (BD(1.0) / cd[2]).store_aligned(out.inv_dz + base);
@@ -229,9 +239,14 @@ void lookup_packet_simd(const LookupTables& t, const Packet16& p, PacketLookup& 
     constexpr int WF = int(xsimd::batch<float, Arch>::size), WD = int(xsimd::batch<double, Arch>::size);
     alignas(64) double in[8][16];
     for (int i = 0; i < 16; ++i) {
-        in[0][i] = p.org_x[i]; in[1][i] = p.org_y[i]; in[2][i] = p.org_z[i];
-        in[3][i] = p.dir_x[i]; in[4][i] = p.dir_y[i]; in[5][i] = p.dir_z[i];
-        in[6][i] = p.tnear[i]; in[7][i] = p.tfar[i];
+        in[0][i] = p.org_x[i];
+        in[1][i] = p.org_y[i];
+        in[2][i] = p.org_z[i];
+        in[3][i] = p.dir_x[i];
+        in[4][i] = p.dir_y[i];
+        in[5][i] = p.dir_z[i];
+        in[6][i] = p.tnear[i];
+        in[7][i] = p.tfar[i];
     }
     // The box first: a packet none of whose rays reaches it needs no direction (primary rays of a
     // mesh framed from outside: more than half of the packets).

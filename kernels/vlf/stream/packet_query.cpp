@@ -21,19 +21,32 @@ void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::Packet
         vlf::CanonicalRay cr;
         if (!vlf::make_canonical_ray(f.frames[nearest.index], f.grid, f.world_box, p.ray(i), cr)) continue;
         out.psf[i] = nearest.index;
-        out.ox[i] = cr.ox; out.oy[i] = cr.oy; out.oz[i] = cr.oz;
-        out.dx[i] = cr.dx; out.dy[i] = cr.dy; out.dz[i] = cr.dz;
-        out.t0[i] = cr.t0; out.t1[i] = cr.t1;
-        out.column[i] = cr.column; out.row[i] = cr.row;
-        out.inv_dx[i] = cr.inv_dx; out.inv_dy[i] = cr.inv_dy; out.inv_dz[i] = cr.inv_dz;
+        out.ox[i] = cr.ox;
+        out.oy[i] = cr.oy;
+        out.oz[i] = cr.oz;
+        out.dx[i] = cr.dx;
+        out.dy[i] = cr.dy;
+        out.dz[i] = cr.dz;
+        out.t0[i] = cr.t0;
+        out.t1[i] = cr.t1;
+        out.column[i] = cr.column;
+        out.row[i] = cr.row;
+        out.inv_dx[i] = cr.inv_dx;
+        out.inv_dy[i] = cr.inv_dy;
+        out.inv_dz[i] = cr.inv_dz;
         const WatertightRay w = make_watertight_ray(p.ray(i));
-        out.kx[i] = w.kx; out.ky[i] = w.ky; out.kz[i] = w.kz;
-        out.sx[i] = w.sx; out.sy[i] = w.sy; out.sz[i] = w.sz;
+        out.kx[i] = w.kx;
+        out.ky[i] = w.ky;
+        out.kz[i] = w.kz;
+        out.sx[i] = w.sx;
+        out.sy[i] = w.sy;
+        out.sz[i] = w.sz;
         out.valid |= 1u << i;
         if (!first_tiles) continue;
         out.z0[i] = float(cr.oz + cr.t0 * cr.dz);
         out.z1[i] = float(cr.oz + cr.t1 * cr.dz);
-        out.footprint[i] = vlf::ray_footprint(vlf::FootprintLattice::of_tile(f.grid, cr.column, cr.row), cr, cr.t0, cr.t1);
+        out.footprint[i] =
+            vlf::ray_footprint(vlf::FootprintLattice::of_tile(f.grid, cr.column, cr.row), cr, cr.t0, cr.t1);
         out.one_tile |= std::uint32_t(vlf::segment_in_first_tile<false>(f.grid, cr)) << i;
     }
 }
@@ -43,8 +56,10 @@ void lookup_lanes(const VisibilityField::Impl& f, const Packet16& p, vlf::Packet
 namespace vlf {
 
 void lookup_packet(const VisibilityField::Impl& f, const Packet16& p, PacketLookup& out, bool first_tiles) {
-    if (f.simd->lookup_packet) f.simd->lookup_packet(f.lookup.tables, p, out, first_tiles);
-    else lookup_lanes(f, p, out, first_tiles);
+    if (f.simd->lookup_packet)
+        f.simd->lookup_packet(f.lookup.tables, p, out, first_tiles);
+    else
+        lookup_lanes(f, p, out, first_tiles);
     out.valid &= segment_lanes(p);  // rays that describe no segment report nothing
     out.one_tile &= out.valid;
 }
@@ -90,7 +105,7 @@ void VisibilityField::intersect(const Packet16& packet, PacketHits16& hits, VlfM
     for (std::uint32_t m = s.lookup.valid; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
         hits.set_hit(i, vlf::walk_field<false, false>(f, *s.psf[i], s.lookup.ray(i), s.lookup.watertight(i, packet),
-                                                     mode, nullptr));
+                                                      mode, nullptr));
     }
 }
 

@@ -29,8 +29,8 @@ struct BinnedRay {
 
 // Stable counting sort of in by key(ray) < buckets into out.
 template <class Key>
-void counting_sort(std::span<const BinnedRay> in, BinnedRay* out, std::uint32_t buckets, std::vector<std::uint32_t>& next,
-                   Key&& key) {
+void counting_sort(std::span<const BinnedRay> in, BinnedRay* out, std::uint32_t buckets,
+                   std::vector<std::uint32_t>& next, Key&& key) {
     next.assign(std::size_t(buckets) + 1, 0);
     for (const BinnedRay& r : in) ++next[key(r) + 1];
     for (std::uint32_t b = 0; b < buckets; ++b) next[b + 1] += next[b];
@@ -72,27 +72,33 @@ void pipeline(const VisibilityField::Impl& f, std::size_t groups, Fill&& fill, W
 // The rays of one bin, 16 at a time.
 template <class Walk>
 void trace_bin(const VisibilityField::Impl& f, std::span<const BinnedRay> rays, Walk&& walk) {
-    pipeline(f, (rays.size() + 15) / 16, [&](std::size_t g, Group& q) {
-        const std::size_t b = g * 16;
-        const int count = int(std::min<std::size_t>(16, rays.size() - b));
-        q.own.active = count == 16 ? 0xFFFFu : (1u << count) - 1u;
-        for (int k = 0; k < 16; ++k) {
-            const BinnedRay& r = rays[b + std::size_t(k < count ? k : 0)];
-            q.own.set_ray(k, r.ray);
-            q.slots[k] = r.slot;
-        }
-        q.packet = &q.own;
-    }, walk);
+    pipeline(
+        f, (rays.size() + 15) / 16,
+        [&](std::size_t g, Group& q) {
+            const std::size_t b = g * 16;
+            const int count = int(std::min<std::size_t>(16, rays.size() - b));
+            q.own.active = count == 16 ? 0xFFFFu : (1u << count) - 1u;
+            for (int k = 0; k < 16; ++k) {
+                const BinnedRay& r = rays[b + std::size_t(k < count ? k : 0)];
+                q.own.set_ray(k, r.ray);
+                q.slots[k] = r.slot;
+            }
+            q.packet = &q.own;
+        },
+        walk);
 }
 
 // The packets as given (not copied: a group points at its packet, whose place is its index).
 template <class Walk>
 void in_order(const VisibilityField::Impl& f, std::span<const Packet16> packets, Walk&& walk) {
-    pipeline(f, packets.size(), [&](std::size_t g, Group& q) {
-        q.packet = &packets[g];
-        q.index = g;
-        for (int k = 0; k < 16; ++k) q.slots[k] = std::uint32_t(g * 16 + std::size_t(k));
-    }, walk);
+    pipeline(
+        f, packets.size(),
+        [&](std::size_t g, Group& q) {
+            q.packet = &packets[g];
+            q.index = g;
+            for (int k = 0; k < 16; ++k) q.slots[k] = std::uint32_t(g * 16 + std::size_t(k));
+        },
+        walk);
 }
 
 // Calls walk(group) for every ray of the packets, grouped by PSF and ordered by first tile, except
@@ -123,8 +129,8 @@ void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, W
         for (std::size_t slot = 0; slot < bin_of.size(); ++slot) {
             const std::uint32_t b = bin_of[slot];
             if (b == kNoBin) continue;
-            rays[next[b >> kTileBits]++] = BinnedRay{packets[slot / 16].ray(int(slot % 16)), std::uint32_t(slot),
-                                                     b & ((1u << kTileBits) - 1u)};
+            rays[next[b >> kTileBits]++] =
+                BinnedRay{packets[slot / 16].ray(int(slot % 16)), std::uint32_t(slot), b & ((1u << kTileBits) - 1u)};
         }
     }
     bin_of = {};

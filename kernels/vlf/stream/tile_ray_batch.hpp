@@ -47,20 +47,34 @@ struct alignas(64) TileRayBatch {
     std::uint32_t count = 0;
 
     void set(std::uint32_t i, const TileRay& r) {
-        okx[i] = r.okx; oky[i] = r.oky; okz[i] = r.okz;
-        sx[i] = r.sx; sy[i] = r.sy; sz[i] = r.sz;
-        tnear[i] = r.tnear; tfar[i] = r.tfar;
-        kx[i] = r.kx; ky[i] = r.ky; kz[i] = r.kz;
+        okx[i] = r.okx;
+        oky[i] = r.oky;
+        okz[i] = r.okz;
+        sx[i] = r.sx;
+        sy[i] = r.sy;
+        sz[i] = r.sz;
+        tnear[i] = r.tnear;
+        tfar[i] = r.tfar;
+        kx[i] = r.kx;
+        ky[i] = r.ky;
+        kz[i] = r.kz;
         slot[i] = r.slot;
     }
     WatertightRay ray(std::uint32_t i) const {
         WatertightRay w;
         float o[3];
-        o[kx[i]] = okx[i]; o[ky[i]] = oky[i]; o[kz[i]] = okz[i];
+        o[kx[i]] = okx[i];
+        o[ky[i]] = oky[i];
+        o[kz[i]] = okz[i];
         w.org = Float3{o[0], o[1], o[2]};
-        w.kx = kx[i]; w.ky = ky[i]; w.kz = kz[i];
-        w.sx = sx[i]; w.sy = sy[i]; w.sz = sz[i];
-        w.tnear = tnear[i]; w.tfar = tfar[i];
+        w.kx = kx[i];
+        w.ky = ky[i];
+        w.kz = kz[i];
+        w.sx = sx[i];
+        w.sy = sy[i];
+        w.sz = sz[i];
+        w.tnear = tnear[i];
+        w.tfar = tfar[i];
         return w;
     }
 };
@@ -69,11 +83,10 @@ struct alignas(64) TileRayBatch {
 // footprints and ids as TileBspView gives them): those whose footprint meets ray_footprint, in
 // order, as pairs (out_lanes[n], out_ids[n]) = (lane, ids[k]); returns n. Entries are taken 16 at
 // a time: from `first` on (k - first in the same 16) in a tile without groups (groups == nullptr)
-// or a run of at most kDirectGroups groups, in their groups (k / 16 equal) in a longer one; unless `distinct` (entries of one leaf), an entry is
-// dropped when an earlier passing entry of its 16 holds the same id (a straddling triangle sits in
-// every leaf it overlaps; repeats in other groups stay: testing a pair twice changes no answer).
-// A kernel may skip groups whose union footprint misses the ray's: they hold no passing entry.
-// The outputs have room for count + 16.
+// or a run of at most kDirectGroups groups, in their groups (k / 16 equal) in a longer one; unless `distinct` (entries
+// of one leaf), an entry is dropped when an earlier passing entry of its 16 holds the same id (a straddling triangle
+// sits in every leaf it overlaps; repeats in other groups stay: testing a pair twice changes no answer). A kernel may
+// skip groups whose union footprint misses the ray's: they hold no passing entry. The outputs have room for count + 16.
 // Runs of at most this many groups are scanned entry by entry (their footprints and ids are
 // requested ahead); longer runs read the groups' union footprints first.
 inline constexpr std::uint32_t kDirectGroups = 8;
@@ -90,7 +103,8 @@ inline std::uint32_t batch_candidates_scalar(const std::uint32_t* groups, const 
     std::uint32_t n = 0;
     std::uint32_t group = 0xFFFFFFFFu, group_start = 0;
     const std::uint32_t g0 = first / 16, g1 = (first + count + 15) / 16;
-    const std::uint32_t origin = groups == nullptr || g1 - g0 <= kDirectGroups ? first : 0;  // where the runs of 16 start
+    const std::uint32_t origin =
+        groups == nullptr || g1 - g0 <= kDirectGroups ? first : 0;  // where the runs of 16 start
     for (std::uint32_t k = first; k < first + count; ++k) {
         if ((k - origin) / 16 != group) {
             group = (k - origin) / 16;

@@ -21,8 +21,8 @@ namespace {
 #if defined(__AVX512BW__) && defined(__AVX512CD__)
 [[maybe_unused]] std::uint32_t batch_candidates_avx512(const std::uint32_t* groups, const std::uint32_t* footprints,
                                                        const std::uint32_t* ids, std::uint32_t first,
-                                                       std::uint32_t count, std::uint32_t ray_footprint,
-                                                       bool distinct, std::uint32_t lane, std::uint32_t* out_ids,
+                                                       std::uint32_t count, std::uint32_t ray_footprint, bool distinct,
+                                                       std::uint32_t lane, std::uint32_t* out_ids,
                                                        std::uint32_t* out_lanes) {
     const __m512i r = _mm512_set1_epi32(int(ray_footprint));
     const __m512i l = _mm512_set1_epi32(int(lane));
@@ -96,14 +96,20 @@ namespace {
             return B(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), live, index, base, 4)) - o;
         };
         simd::Corners<Arch> k;
-        k.ax = corner(0, ax, ox); k.ay = corner(0, ay, oy); k.az = corner(0, az, oz);
-        k.bx = corner(1, ax, ox); k.by = corner(1, ay, oy); k.bz = corner(1, az, oz);
-        k.cx = corner(2, ax, ox); k.cy = corner(2, ay, oy); k.cz = corner(2, az, oz);
+        k.ax = corner(0, ax, ox);
+        k.ay = corner(0, ay, oy);
+        k.az = corner(0, az, oz);
+        k.bx = corner(1, ax, ox);
+        k.by = corner(1, ay, oy);
+        k.bz = corner(1, az, oz);
+        k.cx = corner(2, ax, ox);
+        k.cy = corner(2, ay, oy);
+        k.cz = corner(2, az, oz);
         LaneHits hits;
-        const std::uint32_t bits = simd::watertight_core<Arch>(
-            k, B(_mm512_permutexvar_ps(lane, sx)), B(_mm512_permutexvar_ps(lane, sy)),
-            B(_mm512_permutexvar_ps(lane, sz)), B(_mm512_permutexvar_ps(lane, tnear)),
-            B(_mm512_permutexvar_ps(lane, tfar)), std::uint32_t(live), hits, 0);
+        const std::uint32_t bits =
+            simd::watertight_core<Arch>(k, B(_mm512_permutexvar_ps(lane, sx)), B(_mm512_permutexvar_ps(lane, sy)),
+                                        B(_mm512_permutexvar_ps(lane, sz)), B(_mm512_permutexvar_ps(lane, tnear)),
+                                        B(_mm512_permutexvar_ps(lane, tfar)), std::uint32_t(live), hits, 0);
         for (std::uint32_t m = bits; m; m &= m - 1) occluded |= 1u << lanes[p + std::uint32_t(__builtin_ctz(m))];
     }
     return occluded;

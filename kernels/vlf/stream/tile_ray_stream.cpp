@@ -62,9 +62,15 @@ bool TileRayBins::take(const VisibilityField::Impl& f, const Packet16& p, const 
     r.z1 = l.z1[i];
     r.footprint = l.footprint[i];
     const float o[3] = {p.org_x[i], p.org_y[i], p.org_z[i]};
-    r.kx = l.kx[i]; r.ky = l.ky[i]; r.kz = l.kz[i];
-    r.okx = o[r.kx]; r.oky = o[r.ky]; r.okz = o[r.kz];
-    r.sx = l.sx[i]; r.sy = l.sy[i]; r.sz = l.sz[i];
+    r.kx = l.kx[i];
+    r.ky = l.ky[i];
+    r.kz = l.kz[i];
+    r.okx = o[r.kx];
+    r.oky = o[r.ky];
+    r.okz = o[r.kz];
+    r.sx = l.sx[i];
+    r.sy = l.sy[i];
+    r.sz = l.sz[i];
     r.tnear = p.tnear[i];
     r.tfar = p.tfar[i];
     // One streaming store of the whole line: the pool is far larger than the caches, and a plain
@@ -209,7 +215,8 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
             const std::uint32_t g0 = e0 / 16, g1 = (e0 + count + 15) / 16;
             if (count == 0 || s.groups[lane] == nullptr || g1 - g0 <= kDirectGroups) continue;
             if (passing.size() < g1 - g0 + 16) passing.resize(2 * (g1 - g0 + 16));
-            const std::uint32_t n = kernels.scan_footprints(s.groups[lane] + g0, g1 - g0, rays[i].footprint, passing.data());
+            const std::uint32_t n =
+                kernels.scan_footprints(s.groups[lane] + g0, g1 - g0, rays[i].footprint, passing.data());
             for (std::uint32_t k = 0; k < n; ++k) {
                 const std::uint32_t g = g0 + passing[k];
                 _mm_prefetch(reinterpret_cast<const char*>(s.footprints[lane] + 16 * g), _MM_HINT_T0);

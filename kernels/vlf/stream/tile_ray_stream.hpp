@@ -31,7 +31,6 @@ namespace beamtrace::vlf {
 
 class TileRayBins {
 public:
-
     // Empties the bins, for a stream of at most `rays` rays over `psfs` PSFs.
     void begin(std::size_t psfs, std::size_t rays);
     // Lane i of a looked-up packet (valid in l), slot its place in the stream: true if kept (its
@@ -55,13 +54,13 @@ private:
     std::unique_ptr<std::uint32_t[]> keys_;  // their tiles, dense
     std::size_t pool_size_ = 0;
     std::uint32_t chunks_ = 0;
-    std::vector<std::uint32_t> link_;   // chunk -> the PSF's previous chunk (kNone: first)
-    std::vector<std::uint32_t> last_;   // PSF -> its newest chunk (kNone: none)
-    std::vector<std::uint32_t> fill_;   // PSF -> rays in its newest chunk
-    std::vector<std::uint32_t> count_;  // PSF -> rays
+    std::vector<std::uint32_t> link_;       // chunk -> the PSF's previous chunk (kNone: first)
+    std::vector<std::uint32_t> last_;       // PSF -> its newest chunk (kNone: none)
+    std::vector<std::uint32_t> fill_;       // PSF -> rays in its newest chunk
+    std::vector<std::uint32_t> count_;      // PSF -> rays
     std::unique_ptr<TileRay[]> sorted_[2];  // a bin ordered by column, then by row
     std::size_t sorted_size_ = 0;
-    std::vector<std::uint32_t> next_;   // counting sort
+    std::vector<std::uint32_t> next_;               // counting sort
     std::vector<std::uint32_t> ids_[2], lanes_[2];  // candidate pairs of two batches
     std::vector<std::uint32_t> passing_;            // groups of a long run that meet a ray
 };

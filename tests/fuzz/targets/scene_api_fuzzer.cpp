@@ -44,7 +44,8 @@ void use(const beamtrace::Scene& scene, Input& in) {
     check(scene.indices().size() == 3 * scene.triangle_count());
     check(scene.degenerate_count() <= scene.triangle_count());
     const beamtrace::Box& b = scene.bounds();
-    for (int k = 0; k < 3; ++k) check(std::isfinite(b.lower[k]) && std::isfinite(b.upper[k]) && b.lower[k] <= b.upper[k]);
+    for (int k = 0; k < 3; ++k)
+        check(std::isfinite(b.lower[k]) && std::isfinite(b.upper[k]) && b.lower[k] <= b.upper[k]);
     // The builder and the single-ray traversal on whatever geometry came through.
     const beamtrace::KdTree tree = beamtrace::KdTree::build(scene);
     for (int i = 0; i < 8 && !in.empty(); ++i) {
