@@ -7,6 +7,7 @@
 
 #include "beamtrace/error.hpp"
 #include "common/query_runner.hpp"
+#include "common/ray_packing.hpp"
 #include "kdtree/ray_traversal.hpp"
 #include "mlrta/covered_leaves.hpp"
 #include "mlrta/entry_point_trace.hpp"
@@ -127,10 +128,7 @@ void trace_rays(const Mlrta::Impl& m, std::span<const Ray> rays, Out* out, const
     run_query(packets, options, 16, [&](std::size_t b, std::size_t e, QueryCounters* c) {
         for (std::size_t p = b; p < e; ++p) {
             Packet16 packet;
-            packet.active = 0;
-            const std::size_t first = p * 16, n = std::min<std::size_t>(16, rays.size() - first);
-            for (std::size_t i = 0; i < 16; ++i) packet.set_ray(int(i), rays[first + std::min(i, n - 1)]);
-            packet.active = n == 16 ? 0xFFFFu : (1u << n) - 1u;
+            const std::size_t first = p * 16, n = pack_rays(rays, first, packet);
             PacketHits16 hits;
             std::uint32_t bits = 0;
             if (c)

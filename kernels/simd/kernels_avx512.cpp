@@ -7,36 +7,18 @@
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#include "common/triangle_kernels_impl.hpp"
-#include "kdtree/packet/lane_box_test_impl.hpp"
-#include "kdtree/packet/one_origin_frustum_impl.hpp"
-#include "kdtree/packet/packet_kernels.hpp"
-#include "simd/lane_bits.hpp"
+#include "simd/isa_unit.hpp"
 #include "vlf/query/entry_closest_hit_impl.hpp"
 #include "vlf/query/entry_occlusion_impl.hpp"
 #include "vlf/query/footprint_scan_impl.hpp"
-#include "vlf/stream/packet_lookup_impl.hpp"
 #include "vlf/stream/tile_ray_batch_impl.hpp"
-#include "vlf/vlf_kernels.hpp"
 
 namespace beamtrace {
 namespace {
-namespace unit {  // this ISA's entry points (named apart from the templates they instantiate)
+namespace unit {  // the entry points only AVX-512 has
 
-using Arch = xsimd::avx512bw;
+using Unit = simd::UnitKernels<xsimd::avx512bw>;
 
-void packet_x1(const WatertightPacket16& p, const Triangle& tri, LaneHits& out) { simd::packet_x1<Arch>(p, tri, out); }
-
-std::uint32_t frustum_cull(const kdtree::OneOriginFrustum& f, const Triangle* tris, int n) {
-    return kdtree::simd_impl::frustum_misses<Arch>(f, tris, n);
-}
-std::uint32_t lane_box(const kdtree::LaneBoxRays& s, const float* tfar, std::uint32_t lanes, const Box& box) {
-    return kdtree::simd_impl::lanes_meeting<Arch>(s, tfar, lanes, box);
-}
-
-void lookup_packet(const vlf::LookupTables& t, const Packet16& p, vlf::PacketLookup& out, bool first_tiles) {
-    vlf::lookup_packet_simd<Arch>(t, p, out, first_tiles);
-}
 std::uint32_t scan_footprints(const std::uint32_t* footprints, std::uint32_t count, std::uint32_t ray,
                               std::uint32_t* passing) {
     return vlf::scan_avx512(footprints, count, ray, passing);
@@ -68,20 +50,20 @@ std::uint32_t batch_test(const vlf::TileRayBatch& rays, const Triangle* triangle
 template <>
 const TriangleKernels& simd::table<TriangleKernels, Isa::avx512>() {
     static const TriangleKernels k{Isa::avx512, table<TriangleKernels, Isa::sse42>().ray_x4,
-                                   table<TriangleKernels, Isa::avx2>().ray_x8, unit::packet_x1};
+                                   table<TriangleKernels, Isa::avx2>().ray_x8, unit::Unit::packet_one_triangle};
     return k;
 }
 
 template <>
 const kdtree::PacketKernels& simd::table<kdtree::PacketKernels, Isa::avx512>() {
-    static constexpr kdtree::PacketKernels k{Isa::avx512, unit::frustum_cull, unit::lane_box};
+    static constexpr kdtree::PacketKernels k = unit::Unit::packet_kernels(Isa::avx512);
     return k;
 }
 
 template <>
 const vlf::VlfKernels& simd::table<vlf::VlfKernels, Isa::avx512>() {
-    static constexpr vlf::VlfKernels k{Isa::avx512,           unit::lookup_packet,   unit::scan_footprints,
-                                       unit::occlude_entries, unit::closest_entries, unit::batch_candidates,
+    static constexpr vlf::VlfKernels k{Isa::avx512,           unit::Unit::lookup_packet, unit::scan_footprints,
+                                       unit::occlude_entries, unit::closest_entries,     unit::batch_candidates,
                                        unit::batch_test};
     return k;
 }

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,22 @@ struct EngineAnswers {
     // Makes the per-slot form current (a no-op when it already is).
     void to_slots(const RaySet& rays, bool closest);
 };
+
+// The answers of an accelerator's packet queries (the library's query contract, query.hpp) to the
+// ray set's packets, by packet: what kd16, vlf and, for rays that form no image, mlrta do.
+template <class Accelerator>
+void answer_packets(const Accelerator& accelerator, const RaySet& rays, bool closest, EngineAnswers& answers,
+                    const QueryOptions& options) {
+    answers.form = EngineAnswers::Form::packets;
+    const std::span<const Packet16> packets(rays.packets);
+    if (closest) {
+        answers.packet_hits.resize(packets.size());
+        accelerator.intersect(packets, std::span<PacketHits16>(answers.packet_hits), options);
+    } else {
+        answers.packet_occluded.resize(packets.size());
+        accelerator.occluded(packets, std::span<std::uint32_t>(answers.packet_occluded), options);
+    }
+}
 
 class Engine {
 public:

@@ -116,30 +116,19 @@ public:
     std::size_t memory_bytes() const override { return tree_->stats().bytes + tree_->packet_table_bytes(); }
 
     void trace(const RaySet& rays, bool closest, EngineAnswers& a, int threads) const override {
-        query(rays, closest, a, QueryOptions{threads, nullptr});
+        answer_packets(*tree_, rays, closest, a, QueryOptions{threads, nullptr});
     }
 
     nlohmann::json stats(const RaySet& rays) const override {
         QueryCounters c;
         EngineAnswers a;
-        query(rays, rays.mode == Mode::primary, a, QueryOptions{1, &c});
+        answer_packets(*tree_, rays, rays.mode == Mode::primary, a, QueryOptions{1, &c});
         nlohmann::json j = packet_counters_json(c, tree_->stats().nodes, tree_->experimental().triangle_culling);
         j.update(mlrta_settings_json(settings_));  // the settings this engine was given (the JSON contract's keys)
         return j;
     }
 
 private:
-    void query(const RaySet& rays, bool closest, EngineAnswers& a, const QueryOptions& options) const {
-        a.form = EngineAnswers::Form::packets;
-        if (closest) {
-            a.packet_hits.resize(rays.packets.size());
-            tree_->intersect(rays.packets, a.packet_hits, options);
-        } else {
-            a.packet_occluded.resize(rays.packets.size());
-            tree_->occluded(rays.packets, a.packet_occluded, options);
-        }
-    }
-
     std::unique_ptr<KdTree> tree_;
     MlrtaSettings settings_;
 };

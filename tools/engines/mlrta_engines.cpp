@@ -68,20 +68,14 @@ private:
 
     // Tiles of beams when the packets form an image; packet by packet otherwise.
     void query(const RaySet& rays, bool closest, EngineAnswers& a, const QueryOptions& options) const {
+        if (rays.packets_x == 0) return answer_packets(*mlrta_, rays, closest, a, options);
         a.form = EngineAnswers::Form::packets;
-        const bool image = rays.packets_x > 0;
         if (closest) {
             a.packet_hits.resize(rays.packets.size());
-            if (image)
-                mlrta_->intersect(grid(rays), a.packet_hits, options);
-            else
-                mlrta_->intersect(std::span<const Packet16>(rays.packets), a.packet_hits, options);
+            mlrta_->intersect(grid(rays), a.packet_hits, options);
         } else {
             a.packet_occluded.resize(rays.packets.size());
-            if (image)
-                mlrta_->occluded(grid(rays), a.packet_occluded, options);
-            else
-                mlrta_->occluded(std::span<const Packet16>(rays.packets), a.packet_occluded, options);
+            mlrta_->occluded(grid(rays), a.packet_occluded, options);
         }
     }
 

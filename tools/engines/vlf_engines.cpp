@@ -42,13 +42,13 @@ public:
     std::size_t memory_bytes() const override { return field_->stats().memory_bytes; }
 
     void trace(const RaySet& rays, bool closest, EngineAnswers& a, int threads) const override {
-        query(rays, closest, a, QueryOptions{threads, nullptr});
+        answer_packets(*field_, rays, closest, a, QueryOptions{threads, nullptr});
     }
 
     nlohmann::json stats(const RaySet& rays) const override {
         QueryCounters c;
         EngineAnswers a;
-        query(rays, rays.mode == Mode::primary, a, QueryOptions{1, &c});
+        answer_packets(*field_, rays, rays.mode == Mode::primary, a, QueryOptions{1, &c});
         const VlfStats s = field_->stats();
         const double n = c.rays ? double(c.rays) : 1.0;
         return {{"mode", mode_ == VlfMode::exact ? "exact" : "fast"},
@@ -70,17 +70,6 @@ public:
     }
 
 private:
-    void query(const RaySet& rays, bool closest, EngineAnswers& a, const QueryOptions& options) const {
-        a.form = EngineAnswers::Form::packets;
-        if (closest) {
-            a.packet_hits.resize(rays.packets.size());
-            field_->intersect(std::span<const Packet16>(rays.packets), a.packet_hits, options);
-        } else {
-            a.packet_occluded.resize(rays.packets.size());
-            field_->occluded(std::span<const Packet16>(rays.packets), a.packet_occluded, options);
-        }
-    }
-
     VlfMode mode_;
     std::unique_ptr<VisibilityField> field_;
     double construct_seconds_ = 0.0, eager_psf_seconds_ = 0.0;

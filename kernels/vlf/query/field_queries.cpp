@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "common/query_runner.hpp"
+#include "common/ray_packing.hpp"
 #include "vlf/vlf_impl.hpp"
 
 namespace beamtrace {
@@ -20,11 +21,7 @@ void rays_as_packets(std::span<const Ray> rays, Out* out, std::size_t begin, std
     std::vector<std::uint32_t> bits(kOcclusion ? kChunk : 0);
     for (std::size_t first = begin; first < end; first += kChunk * 16) {
         const std::size_t n = std::min(end - first, kChunk * 16), count = (n + 15) / 16;
-        for (std::size_t p = 0; p < count; ++p) {
-            const std::size_t base = first + p * 16, lanes = std::min<std::size_t>(16, end - base);
-            for (std::size_t i = 0; i < 16; ++i) packets[p].set_ray(int(i), rays[base + std::min(i, lanes - 1)]);
-            packets[p].active = lanes == 16 ? 0xFFFFu : (1u << lanes) - 1u;
-        }
+        for (std::size_t p = 0; p < count; ++p) pack_rays(rays.subspan(0, end), first + p * 16, packets[p]);
         if constexpr (kOcclusion)
             trace(std::span<const Packet16>(packets.data(), count), std::span(bits.data(), count));
         else
