@@ -1,19 +1,22 @@
 // Single-ray traversal: the kd-tree (KdTree::intersect for primary rays, KdTree::occluded for shadow
-// rays) against Embree 3 (rtcIntersect1 / rtcOccluded1 and rtcIntersect16 / rtcOccluded16 through
-// oracle::EmbreeOracle, robust mode) on the same rays: 256x256 primary rays from the scene's default
-// camera and one shadow ray per primary hit towards the default light.
+// rays) against Embree 3 at its documented best (oracle::EmbreeNativeRays: rays prebuilt in Embree's
+// layouts, rtcIntersect1 / rtcIntersect16 / rtcIntersect1M and the occlusion forms, robust scene,
+// each with both context flags; docs/oracle.md) on the same rays: 256x256 primary rays from the
+// scene's default camera and one shadow ray per primary hit towards the default light.
 //
 // Per scene, the kd-tree, the Embree scene and the rays are built once, on first use, in a static
-// cache (never timed). items_processed = rays, so Google Benchmark prints rays per second. Every
-// benchmark reports hit_rate (rays that hit, or are occluded); the kd benchmarks also report
-// tests_per_ray (ray/triangle tests), leaves_per_ray, steps_per_ray (inner nodes) and vs_embree1 = kd rays/s divided by
-// the rays/s of the Embree single-ray benchmark of the same scene and mode, measured in this process (it is registered,
-// and so run, just before; if a filter left it out, its rate is measured in the kd benchmark's set-up). Both rates are
-// rays per second of thread CPU time, as in Google Benchmark's items_per_second.
+// cache (never timed). items_processed = rays, so Google Benchmark prints rays per second. The
+// Embree benchmarks time Embree's calls only (the reset of the rays between passes is outside the
+// manual timer). Every benchmark reports hit_rate (rays that hit, or are occluded); the kd
+// benchmarks also report tests_per_ray (ray/triangle tests), leaves_per_ray, steps_per_ray (inner
+// nodes) and vs_anchor = kd rays/s over the fastest Embree benchmark of the same scene and mode in
+// this process (they are registered, and so run, just before; if a filter left them out, they are
+// measured in the kd benchmark's set-up). Rates are rays per second of thread CPU time.
 #include <benchmark/benchmark.h>
 
 #include <time.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <exception>
@@ -26,6 +29,7 @@
 
 #include "beamtrace/kdtree.hpp"
 #include "simd/isa.hpp"
+#include "oracle/embree_native_rays.hpp"
 #include "rays/workload.hpp"
 
 #ifndef BEAMTRACE_SCENES_DIR
@@ -37,7 +41,6 @@ namespace {
 using beamtrace::Hit;
 using beamtrace::KdTree;
 using beamtrace::Packet16;
-using beamtrace::PacketHits16;
 using beamtrace::Ray;
 namespace workload = beamtrace::workload;
 
@@ -67,15 +70,15 @@ struct SceneCase {
     std::string description;
     std::optional<workload::Workload> work;
     std::optional<KdTree> tree;
-    Rays rays[2];                               // kPrimary, kShadow
-    double embree1_rate[2] = {0, 0};            // rays/s of the last Embree single-ray run, per mode (0: none yet)
-    bool embree1_in_setup[2] = {false, false};  // that rate was measured by the kd benchmark itself
+    Rays rays[2];  // kPrimary, kShadow
+    std::unique_ptr<beamtrace::oracle::EmbreeNativeRays> native[2][3];  // per mode and layout
+    double anchor_rate[2] = {0, 0};  // rays/s of the fastest Embree benchmark run, per mode (0: none yet)
+    bool anchor_in_setup[2] = {false, false};  // that rate was measured by the kd benchmark itself
 };
 
 Rays collect(const workload::RaySet& set, const KdTree& tree, Mode mode) {
     Rays r;
-    for (const Packet16& p : set.packets)
-        if (p.active != 0) r.packets.push_back(p);  // shadow sets keep empty packets where nothing was hit
+    r.packets = set.packets;  // Embree's layouts leave out the packets with no ray
     beamtrace::QueryCounters counters;
     for (std::size_t slot = 0; slot < set.slots(); ++slot)
         if (set.active(slot)) r.single.push_back(set.ray(slot));
@@ -130,16 +133,42 @@ SceneCase& scene_case(const std::string& name) {
     return *slot;
 }
 
-// One pass of Embree's single-ray queries over the rays; returns the rays that hit (or are occluded).
-std::uint64_t embree1_pass(const SceneCase& c, Mode mode) {
-    const beamtrace::oracle::EmbreeOracle& oracle = *c.work->oracle;
-    std::uint64_t hits = 0;
+using beamtrace::oracle::EmbreeContextFlag;
+using beamtrace::oracle::EmbreeLayout;
+using beamtrace::oracle::EmbreeNativeRays;
+
+constexpr EmbreeLayout kLayouts[] = {EmbreeLayout::single, EmbreeLayout::packet16, EmbreeLayout::stream};
+constexpr EmbreeContextFlag kFlags[] = {EmbreeContextFlag::coherent, EmbreeContextFlag::incoherent};
+const char* layout_name(EmbreeLayout l) {
+    return l == EmbreeLayout::single ? "1" : l == EmbreeLayout::packet16 ? "16" : "_stream";
+}
+
+// The rays of a mode in one of Embree's layouts (made once per scene, mode and layout).
+EmbreeNativeRays& native_rays(SceneCase& c, Mode mode, EmbreeLayout layout) {
+    auto& slot = c.native[mode][int(layout)];
+    if (!slot)
+        slot = std::make_unique<EmbreeNativeRays>(*c.work->oracle, layout, c.rays[mode].packets, mode == kPrimary);
+    return *slot;
+}
+
+// One pass of Embree's calls: thread CPU seconds of the calls alone (the reset before them is not
+// counted), and the rays that hit (or are occluded).
+double embree_pass(SceneCase& c, Mode mode, EmbreeLayout layout, EmbreeContextFlag flag, std::uint64_t& hits) {
+    EmbreeNativeRays& native = native_rays(c, mode, layout);
+    native.reset();
+    const double start = thread_cpu_seconds();
+    native.trace(flag, 0, native.units());
+    const double seconds = thread_cpu_seconds() - start;
     if (mode == kPrimary) {
-        for (const Ray& r : c.rays[mode].single) hits += oracle.intersect1(r).hit();
+        std::vector<Hit> out;
+        native.hits(out);
+        for (const Hit& h : out) hits += h.hit();
     } else {
-        for (const Ray& r : c.rays[mode].single) hits += oracle.occluded1(r);
+        std::vector<std::uint8_t> out;
+        native.occluded(out);
+        for (std::uint8_t o : out) hits += o;
     }
-    return hits;
+    return seconds;
 }
 
 // Common ending: rays per second, hit rate, and the rate in rays per thread CPU second.
@@ -156,40 +185,49 @@ bool usable(benchmark::State& state, const SceneCase& c) {
     return false;
 }
 
-void bm_embree1(benchmark::State& state, const std::string& name, Mode mode) {
+void bm_embree(benchmark::State& state, const std::string& name, Mode mode, EmbreeLayout layout,
+               EmbreeContextFlag flag) {
     SceneCase& c = scene_case(name);
     if (!usable(state, c)) return;
     std::uint64_t hits = 0;
-    const double start = thread_cpu_seconds();
+    double cpu = 0;
     for (auto _ : state) {
-        hits += embree1_pass(c, mode);
-        benchmark::DoNotOptimize(hits);
+        const double seconds = embree_pass(c, mode, layout, flag, hits);
+        state.SetIterationTime(seconds);
+        cpu += seconds;
     }
-    const double cpu = thread_cpu_seconds() - start;
-    c.embree1_rate[mode] = finish(state, c.rays[mode].single.size(), hits, cpu);
-    c.embree1_in_setup[mode] = false;
-    state.SetLabel("Embree robust, " + c.description);
+    const double rate = finish(state, c.rays[mode].single.size(), hits, cpu);
+    if (rate > c.anchor_rate[mode]) c.anchor_rate[mode] = rate;
+    c.anchor_in_setup[mode] = false;
+    state.SetLabel(std::string("Embree robust, ") + beamtrace::oracle::to_string(flag) + ", " + c.description);
+}
+
+// The fastest Embree layout and flag for the scene and mode, measured here (0.1 s each).
+double measure_anchor(SceneCase& c, Mode mode) {
+    double best = 0;
+    for (EmbreeLayout layout : kLayouts)
+        for (EmbreeContextFlag flag : kFlags) {
+            std::uint64_t passes = 0, hits = 0;
+            double cpu = 0;
+            while (cpu < 0.1) {
+                cpu += embree_pass(c, mode, layout, flag, hits);
+                ++passes;
+            }
+            best = std::max(best, double(passes) * double(c.rays[mode].single.size()) / cpu);
+        }
+    return best;
 }
 
 void bm_kd(benchmark::State& state, const std::string& name, Mode mode) {
     SceneCase& c = scene_case(name);
     if (!usable(state, c)) return;
     std::string label = std::string("kd-tree, ") + beamtrace::isa_name(beamtrace::best_isa()) + " kernels";
-    if (c.embree1_rate[mode] <= 0) {
-        // The Embree benchmark did not run: measure its rate here, untimed by Google Benchmark.
-        std::uint64_t passes = 0, hits = 0;
-        const double start = thread_cpu_seconds();
-        double cpu = 0;
-        while (cpu < 0.2) {
-            hits += embree1_pass(c, mode);
-            ++passes;
-            cpu = thread_cpu_seconds() - start;
-        }
-        benchmark::DoNotOptimize(hits);
-        c.embree1_rate[mode] = double(passes) * double(c.rays[mode].single.size()) / cpu;
-        c.embree1_in_setup[mode] = true;
+    if (c.anchor_rate[mode] <= 0) {
+        // The Embree benchmarks did not run: measure the anchor here, untimed by Google Benchmark.
+        c.anchor_rate[mode] = measure_anchor(c, mode);
+        c.anchor_in_setup[mode] = true;
     }
-    if (c.embree1_in_setup[mode]) label += " (Embree rate measured in set-up)";
+    if (c.anchor_in_setup[mode]) label += " (anchor measured in set-up)";
     const KdTree& tree = *c.tree;
     const std::vector<Ray>& rays = c.rays[mode].single;
     std::uint64_t hits = 0;
@@ -207,30 +245,8 @@ void bm_kd(benchmark::State& state, const std::string& name, Mode mode) {
     state.counters["tests_per_ray"] = c.rays[mode].tests_per_ray;
     state.counters["leaves_per_ray"] = c.rays[mode].leaves_per_ray;
     state.counters["steps_per_ray"] = c.rays[mode].steps_per_ray;
-    state.counters["vs_embree1"] = rate / c.embree1_rate[mode];
+    state.counters["vs_anchor"] = rate / c.anchor_rate[mode];
     state.SetLabel(label + ", " + c.description);
-}
-
-void bm_embree16(benchmark::State& state, const std::string& name, Mode mode) {
-    SceneCase& c = scene_case(name);
-    if (!usable(state, c)) return;
-    const beamtrace::oracle::EmbreeOracle& oracle = *c.work->oracle;
-    const std::vector<Packet16>& packets = c.rays[mode].packets;
-    PacketHits16 out;
-    std::uint64_t hits = 0;
-    for (auto _ : state) {
-        for (const Packet16& p : packets) {
-            if (mode == kPrimary) {
-                oracle.intersect16(p, out);
-                for (int i = 0; i < 16; ++i) hits += out.triangle[i] != beamtrace::kNoHit;
-            } else {
-                hits += unsigned(std::popcount(oracle.occluded16(p)));
-            }
-        }
-        benchmark::DoNotOptimize(hits);
-    }
-    finish(state, c.rays[mode].single.size(), hits, 0.0);
-    state.SetLabel("Embree robust, 16-wide, " + c.description);
 }
 
 void register_benchmarks() {
@@ -239,12 +255,15 @@ void register_benchmarks() {
         for (Mode mode : {kPrimary, kShadow}) {
             const std::string prefix = std::string(mode_name(mode)) + "/" + name + "/";
             const char* query = mode == kPrimary ? "intersect" : "occluded";
-            benchmark::RegisterBenchmark((prefix + "embree_" + query + "1").c_str(),
-                                         [name, mode](benchmark::State& s) { bm_embree1(s, name, mode); });
+            for (EmbreeLayout layout : kLayouts)
+                for (EmbreeContextFlag flag : kFlags)
+                    benchmark::RegisterBenchmark(
+                        (prefix + "embree_" + query + layout_name(layout) + "/" + beamtrace::oracle::to_string(flag))
+                            .c_str(),
+                        [name, mode, layout, flag](benchmark::State& s) { bm_embree(s, name, mode, layout, flag); })
+                        ->UseManualTime();
             benchmark::RegisterBenchmark((prefix + "kd_" + query).c_str(),
                                          [name, mode](benchmark::State& s) { bm_kd(s, name, mode); });
-            benchmark::RegisterBenchmark((prefix + "embree_" + query + "16").c_str(),
-                                         [name, mode](benchmark::State& s) { bm_embree16(s, name, mode); });
         }
     }
 }
