@@ -70,9 +70,9 @@ struct SceneCase {
     std::string description;
     std::optional<workload::Workload> work;
     std::optional<KdTree> tree;
-    Rays rays[2];  // kPrimary, kShadow
+    Rays rays[2];                                                       // kPrimary, kShadow
     std::unique_ptr<beamtrace::oracle::EmbreeNativeRays> native[2][3];  // per mode and layout
-    double anchor_rate[2] = {0, 0};  // rays/s of the fastest Embree benchmark run, per mode (0: none yet)
+    double anchor_rate[2] = {0, 0};            // rays/s of the fastest Embree benchmark run, per mode (0: none yet)
     bool anchor_in_setup[2] = {false, false};  // that rate was measured by the kd benchmark itself
 };
 
