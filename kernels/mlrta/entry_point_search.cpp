@@ -15,7 +15,7 @@ constexpr int kStackSize = SearchTrail::kCapacity;
 class Search {
 public:
     Search(const Mlrta::Impl& m, const Beam& beam, std::uint64_t& steps)
-        : m_(m), kd_(m.kd()), beam_(beam), steps_(steps) {
+        : m_(m), kd_(m.kd()), rows_(m.packets.tables.rows()), beam_(beam), steps_(steps) {
         if (m.settings.experimental.frustum_test == FrustumTest::direct) frustum_ = make_frustum(beam);
         if (m.settings.experimental.ep_triangles) triangles_ = beam_frustum(beam);
     }
@@ -58,11 +58,10 @@ public:
         if (count == 0) return false;
         if (frustum_.valid ? frustum_misses_box(frustum_, n.box) : beam_misses_box(beam_, n.box)) return false;
         if (!triangles_.valid) return true;
-        const Triangle* tris = kd_.leaf_triangles.data() + node.offset();
         for (std::uint32_t j = 0; j < count; j += 16) {
             const int batch = int(std::min<std::uint32_t>(16, count - j));
             const std::uint32_t all = batch == 16 ? 0xFFFFu : (1u << batch) - 1u;
-            if (m_.kernels().frustum_cull(triangles_, tris + j, batch) != all) return true;
+            if (m_.kernels().frustum_cull_rows(triangles_, rows_, node.offset() + j, batch) != all) return true;
         }
         return false;
     }
@@ -79,7 +78,7 @@ public:
             if (count <= kMaxBlockingCandidates) {
                 const std::uint32_t* ids = kd_.triangle_ids.data() + node.offset();
                 const Triangle* tris = kd_.leaf_triangles.data() + node.offset();
-                const std::uint32_t culled = m_.kernels().frustum_cull(triangles_, tris, int(count));
+                const std::uint32_t culled = m_.kernels().frustum_cull_rows(triangles_, rows_, node.offset(), int(count));
                 for (std::uint32_t j = 0; j < count; ++j)
                     if (!((culled >> j) & 1u) && try_blocker(ids[j], tris[j], leaf.box)) return true;
             }
@@ -298,6 +297,7 @@ private:
 
     const Mlrta::Impl& m_;
     const KdTree::Impl& kd_;
+    kdtree::CornerRows rows_;  // the leaf triangles' corners, for the frustum culling
     Beam beam_;  // a copy: a blocker shortens its segments
     std::uint64_t& steps_;
     Frustum4 frustum_;

@@ -27,6 +27,10 @@ struct UnitKernels {
     static std::uint32_t frustum_cull(const kdtree::OneOriginFrustum& f, const Triangle* tris, int n) {
         return kdtree::simd_impl::frustum_misses<Arch>(f, tris, n);
     }
+    static std::uint32_t frustum_cull_rows(const kdtree::OneOriginFrustum& f, const kdtree::CornerRows& rows,
+                                           std::size_t first, int n) {
+        return kdtree::simd_impl::frustum_misses_rows<Arch>(f, rows, first, n);
+    }
     static std::uint32_t lane_box(const kdtree::LaneBoxRays& s, const float* tfar, std::uint32_t lanes,
                                   const Box& box) {
         return kdtree::simd_impl::lanes_meeting<Arch>(s, tfar, lanes, box);
@@ -35,7 +39,7 @@ struct UnitKernels {
         vlf::lookup_packet_simd<Arch>(t, p, out, first_tiles);
     }
     // Every ISA's table of packet traversal kernels has its own forms.
-    static constexpr kdtree::PacketKernels packet_kernels(Isa isa) { return {isa, frustum_cull, lane_box}; }
+    static constexpr kdtree::PacketKernels packet_kernels(Isa isa) { return {isa, frustum_cull, frustum_cull_rows, lane_box}; }
 };
 
 }  // namespace beamtrace::simd

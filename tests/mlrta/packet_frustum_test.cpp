@@ -2,6 +2,7 @@
 // exactly as the scalar reference, and no triangle any ray of the packet hits is ever culled.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <vector>
 
@@ -87,6 +88,41 @@ TEST(MlrtaPacketFrustum, KernelsDecideExactlyAsTheScalarReference) {
         }
         EXPECT_GT(culled, decided / 10) << isa_name(isa) << ": the generator should make many culled triangles";
         EXPECT_LT(culled, decided - decided / 10) << isa_name(isa) << ": and many kept ones";
+    }
+}
+
+TEST(MlrtaPacketFrustum, RowKernelsDecideExactlyAsTheScalarReference) {
+    // The kernels that load the corners from rows (the tree's layout) instead of gathering them:
+    // the same decisions, bit for bit, at every start in a list and with the rows' padding read.
+    for (Isa isa : isas()) {
+        const FrustumCullRowsKernel kernel = beamtrace::simd::select<PacketKernels>(isa).frustum_cull_rows;
+        Generator gen(21 + unsigned(isa));
+        std::uint64_t culled = 0, decided = 0;
+        for (int iter = 0; iter < 5000; ++iter) {
+            const Packet16 p = gen.packet(iter % 3 == 0 ? 1000.0f : 3.0f);
+            const OneOriginFrustum f = make_one_origin_frustum(p, p.active);
+            ASSERT_TRUE(f.valid);
+            std::vector<Triangle> list;
+            const int size = 1 + gen.pick(40);
+            for (int i = 0; i < size; ++i) list.push_back(gen.triangle_near(p));
+            const std::size_t stride = list.size() + 16;
+            std::vector<float> at(9 * stride, 0.0f);
+            for (std::size_t r = 0; r < list.size(); ++r)
+                for (int c = 0; c < 9; ++c) at[std::size_t(c) * stride + r] = (&list[r].v0.x)[c];
+            const CornerRows rows{at.data(), stride};
+            const std::size_t first = std::size_t(gen.pick(size));
+            const int n = std::min(16, 1 + gen.pick(int(list.size() - first)));
+            const std::uint32_t bits = kernel(f, rows, first, n);
+            ASSERT_EQ(bits >> n, 0u) << isa_name(isa) << ": bits past n";
+            for (int i = 0; i < n; ++i) {
+                const bool expected = f.misses(list[first + std::size_t(i)]);
+                ASSERT_EQ(((bits >> i) & 1u) != 0, expected) << isa_name(isa) << " triangle " << i << " of " << n;
+                culled += expected;
+                ++decided;
+            }
+        }
+        EXPECT_GT(culled, decided / 10) << isa_name(isa);
+        EXPECT_LT(culled, decided - decided / 10) << isa_name(isa);
     }
 }
 

@@ -17,6 +17,13 @@ std::uint32_t frustum_misses(const OneOriginFrustum& f, const Triangle* tris, in
     return bits;
 }
 
+std::uint32_t frustum_misses_rows(const OneOriginFrustum& f, const CornerRows& rows, std::size_t first, int n) {
+    std::uint32_t bits = 0;
+    for (int i = 0; i < n; ++i)
+        if (f.misses(rows.triangle(first + std::size_t(i)))) bits |= 1u << i;
+    return bits;
+}
+
 OneOriginFrustum make_one_origin_frustum(const Packet16& packet, std::uint32_t mask) {
     // Lane by lane arithmetic four lanes at a time (SSE), ranges over the group's lanes.
     using B = xsimd::batch<float, xsimd::sse4_2>;

@@ -6,6 +6,7 @@
 // (kernels/simd/kernels_<isa>.cpp) decide up to 16 triangles at once with the same operations in the
 // same order, so their decisions are the reference's, bit for bit.
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "beamtrace/ray.hpp"
@@ -76,8 +77,29 @@ OneOriginFrustum make_one_origin_frustum(const Packet16& packet, std::uint32_t m
 // Bit i set when the frustum misses tris[i], for i < n (n <= 16; a leaf's triangles side by side).
 using FrustumCullKernel = std::uint32_t (*)(const OneOriginFrustum& f, const Triangle* tris, int n);
 
+// The corners of the tree's leaf triangles as nine rows (row c = corner c / 3, axis c % 3), one
+// float per leaf triangle in the leaves' order: coordinate c of leaf triangle r is
+// at[c * stride + r]. Each row is followed by at least 16 padding floats (zeros), so that a kernel
+// may load a whole register from any triangle of the list. What the SIMD culling reads without
+// gathering (packet_tables.hpp).
+struct CornerRows {
+    const float* at = nullptr;
+    std::size_t stride = 0;
+    float get(std::size_t r, int c) const { return at[std::size_t(c) * stride + r]; }
+    Triangle triangle(std::size_t r) const {
+        return {{get(r, 0), get(r, 1), get(r, 2)}, {get(r, 3), get(r, 4), get(r, 5)}, {get(r, 6), get(r, 7), get(r, 8)}};
+    }
+};
+
+// Bit i set when the frustum misses leaf triangle first + i of `rows`, for i < n (n <= 16): the
+// same decisions as FrustumCullKernel on the same triangles, bit for bit.
+using FrustumCullRowsKernel = std::uint32_t (*)(const OneOriginFrustum& f, const CornerRows& rows, std::size_t first,
+                                                int n);
+
 // The scalar reference of the kernel, triangle by triangle with OneOriginFrustum::misses. The SIMD
 // kernels (PacketKernels::frustum_cull, packet_kernels.hpp) decide 4, 8 or 16 at a time.
 std::uint32_t frustum_misses(const OneOriginFrustum& f, const Triangle* tris, int n);
+// The same reference on corner rows.
+std::uint32_t frustum_misses_rows(const OneOriginFrustum& f, const CornerRows& rows, std::size_t first, int n);
 
 }  // namespace beamtrace::kdtree

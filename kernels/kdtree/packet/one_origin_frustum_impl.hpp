@@ -38,8 +38,11 @@ xsimd::batch<float, Arch> triangle_coordinate(const Triangle* tris, int live, in
     }
 }
 
-template <class Arch>
-std::uint32_t frustum_misses(const OneOriginFrustum& f, const Triangle* tris, int n) {
+// The decisions for n triangles (n <= 16), coordinate c of triangles [base, base + W) from
+// coordinate(base, live, c) (lanes from `live` on: any finite value; their bits are dropped).
+template <class Arch, class Coordinate>
+[[gnu::always_inline]] inline std::uint32_t frustum_decisions(const OneOriginFrustum& f, int n,
+                                                              const Coordinate& coordinate) {
     using B = xsimd::batch<float, Arch>;
     constexpr int W = int(B::size);
     const int m = f.m, j0 = f.j0, j1 = f.j1;
@@ -51,15 +54,14 @@ std::uint32_t frustum_misses(const OneOriginFrustum& f, const Triangle* tris, in
     std::uint32_t result = 0;
     for (int base = 0; base < n; base += W) {
         // Corner coordinates on the main axis and the two others, one triangle per lane; lanes past
-        // n hold zeros (their bits are dropped).
+        // n hold whatever the loader gives (their bits are dropped).
         const int live = n - base < W ? n - base : W;
-        alignas(64) float scratch[W];
         auto in_front = B(0.0f) == zero;  // all true
         auto below0 = in_front, above0 = in_front, below1 = in_front, above1 = in_front, beyond = in_front;
         for (int v = 0; v < 3; ++v) {
-            const B pm = triangle_coordinate<Arch>(tris + base, live, 3 * v + m, scratch);
-            const B p0 = triangle_coordinate<Arch>(tris + base, live, 3 * v + j0, scratch);
-            const B p1 = triangle_coordinate<Arch>(tris + base, live, 3 * v + j1, scratch);
+            const B pm = coordinate(base, live, 3 * v + m);
+            const B p0 = coordinate(base, live, 3 * v + j0);
+            const B p1 = coordinate(base, live, 3 * v + j1);
             const B w = (pm - om) * sm;
             in_front = in_front & (w > zero);
             beyond = beyond & ((w - (xsimd::abs(pm) + abs_om) * depth_error) > reach);
@@ -78,6 +80,24 @@ std::uint32_t frustum_misses(const OneOriginFrustum& f, const Triangle* tris, in
         result |= (beamtrace::simd::lane_bits<Arch>(miss) & ((1u << live) - 1u)) << base;
     }
     return result;
+}
+
+// Leaf triangles side by side (gathered: AVX2 and AVX-512 gathers, SSE4.2 copies).
+template <class Arch>
+std::uint32_t frustum_misses(const OneOriginFrustum& f, const Triangle* tris, int n) {
+    return frustum_decisions<Arch>(f, n, [tris](int base, int live, int c) {
+        alignas(64) float scratch[xsimd::batch<float, Arch>::size];
+        return triangle_coordinate<Arch>(tris + base, live, c, scratch);
+    });
+}
+
+// Corner rows: one plain load per coordinate (the rows' padding keeps it inside the array).
+template <class Arch>
+std::uint32_t frustum_misses_rows(const OneOriginFrustum& f, const CornerRows& rows, std::size_t first, int n) {
+    return frustum_decisions<Arch>(f, n, [&rows, first](int base, int, int c) {
+        return xsimd::batch<float, Arch>::load_unaligned(rows.at + std::size_t(c) * rows.stride + first +
+                                                         std::size_t(base));
+    });
 }
 
 }  // namespace beamtrace::kdtree::simd_impl

@@ -1,4 +1,4 @@
-// Packet traversal's tables: the leaves' geometry boxes, and the tree's packet kernels.
+// Packet traversal's tables: the leaves' geometry boxes, the corner rows, and the tree's packet kernels.
 #include "kdtree/packet/packet_tables.hpp"
 
 #include <algorithm>
@@ -28,6 +28,16 @@ void mark_geometry(const KdTree::Impl& tree, std::uint32_t i, const Box& cell, s
     }
 }
 
+// Row c holds coordinate c % 3 of corner c / 3 of every leaf triangle, then 16 zeros.
+void fill_corner_rows(const std::vector<Triangle>& tris, kdtree::PacketTables& t) {
+    t.corner_stride = tris.size() + 16;
+    t.corner_rows.assign(9 * t.corner_stride, 0.0f);
+    for (std::size_t r = 0; r < tris.size(); ++r) {
+        const float* f = &tris[r].v0.x;
+        for (int c = 0; c < 9; ++c) t.corner_rows[std::size_t(c) * t.corner_stride + r] = f[c];
+    }
+}
+
 }  // namespace
 
 const kdtree::PacketTables& KdTree::Impl::packet_tables() const {
@@ -35,6 +45,7 @@ const kdtree::PacketTables& KdTree::Impl::packet_tables() const {
         auto t = std::make_shared<kdtree::PacketTables>();
         t->geometry_boxes.resize(nodes.size());
         if (!nodes.empty()) mark_geometry(*this, 0, bounds, t->geometry_boxes);
+        fill_corner_rows(leaf_triangles, *t);
         t->kernels = &simd::select<kdtree::PacketKernels>(kernels->isa);
         packet_ = std::move(t);
         packet_made_.store(packet_.get(), std::memory_order_release);

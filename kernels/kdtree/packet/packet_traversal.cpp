@@ -123,6 +123,7 @@ void interval_traversal(const PacketTraversalContext& c, const Packet16& packet,
     const KdNode* nodes = kd.nodes.data();
     const std::uint32_t* ids = kd.triangle_ids.data();
     const Triangle* tris = kd.leaf_triangles.data();
+    const CornerRows rows = c.tables.rows();
     std::uint32_t mailbox[kMailboxSize];
     for (std::uint32_t& b : mailbox) b = kNoHit;
 
@@ -189,9 +190,9 @@ void interval_traversal(const PacketTraversalContext& c, const Packet16& packet,
             std::uint32_t culled = 0;  // bit j % 16: the packet's frustum misses leaf[j]
             const bool cull = frustum.valid && count > kMinCulledLeaf;
             for (std::uint32_t j = 0; j < count; ++j) {
-                if (cull && j % 16 == 0)  // the next 16 triangles decided at once (SIMD)
-                    culled =
-                        packet_kernels.frustum_cull(frustum, corners + j, int(std::min<std::uint32_t>(16, count - j)));
+                if (cull && j % 16 == 0)  // the next 16 triangles decided at once (SIMD, from the corner rows)
+                    culled = packet_kernels.frustum_cull_rows(frustum, rows, node.offset() + j,
+                                                              int(std::min<std::uint32_t>(16, count - j)));
                 const std::uint32_t id = leaf[j];
                 std::uint32_t& slot = mailbox[id % kMailboxSize];
                 if (slot == id) continue;  // already tested for every lane: the result cannot change
