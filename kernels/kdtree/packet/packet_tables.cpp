@@ -2,6 +2,7 @@
 #include "kdtree/packet/packet_tables.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "kdtree/kd_node.hpp"
 #include "kdtree/split_events.hpp"
@@ -46,6 +47,9 @@ const kdtree::PacketTables& KdTree::Impl::packet_tables() const {
         t->geometry_boxes.resize(nodes.size());
         if (!nodes.empty()) mark_geometry(*this, 0, bounds, t->geometry_boxes);
         fill_corner_rows(leaf_triangles, *t);
+        float scale = bounds.diagonal();
+        for (int k = 0; k < 3; ++k) scale = std::max({scale, std::fabs(bounds.lower[k]), std::fabs(bounds.upper[k])});
+        t->pad = std::ldexp(scale, -20);
         t->kernels = &simd::select<kdtree::PacketKernels>(kernels->isa);
         packet_ = std::move(t);
         packet_made_.store(packet_.get(), std::memory_order_release);

@@ -17,6 +17,9 @@ struct PacketTables {
     // The corners of KdTree::Impl::leaf_triangles, nine padded rows (CornerRows).
     std::vector<float> corner_rows;
     std::size_t corner_stride = 0;
+    // The absolute widening of packet intervals: the scene's scale (its diagonal or its largest
+    // coordinate) times 2^-20.
+    float pad = 0.0f;
     const PacketKernels* kernels = nullptr;
 
     CornerRows rows() const { return {corner_rows.data(), corner_stride}; }

@@ -42,12 +42,6 @@ struct PacketBounds {
     Interval exit_t(const Box& box, int k) const { return plane_t(k, sign[k] > 0 ? box.upper[k] : box.lower[k]); }
 };
 
-float scene_pad(const Box& b) {
-    float scale = b.diagonal();
-    for (int k = 0; k < 3; ++k) scale = std::max({scale, std::fabs(b.lower[k]), std::fabs(b.upper[k])});
-    return std::ldexp(scale, -20);
-}
-
 // Test (2) of section 3.3 for the packet against a box, limited to parameters in [t0, t1].
 bool packet_misses_box(const PacketBounds& pb, const Box& box, float t0, float t1) {
     Interval entry[3], exit[3];
@@ -83,7 +77,7 @@ void interval_traversal(const PacketTraversalContext& c, const Packet16& packet,
     const KdTree::Impl& kd = c.kd;
     const PacketKernels& packet_kernels = *c.tables.kernels;
     PacketBounds pb;
-    pb.pad = scene_pad(kd.bounds);
+    pb.pad = c.tables.pad;
     {
         const int first = __builtin_ctz(mask);
         pb.sign[0] = std::signbit(packet.dir_x[first]) ? -1 : 1;
