@@ -51,16 +51,25 @@ WatertightPacket16 make_watertight_packet(const Packet16& p) {
         w.axis[0] = int(w.kx[f]);
         w.axis[1] = int(w.ky[f]);
         w.axis[2] = int(w.kz[f]);
-        w.same_axes = w.same_origin = true;
-        for (std::uint32_t b = w.active; b; b &= b - 1) {
-            const int i = __builtin_ctz(b);
-            w.same_axes = w.same_axes && w.kx[i] == w.kx[f] && w.ky[i] == w.ky[f] && w.kz[i] == w.kz[f];
-            // Bit patterns, not values: 0 and -0 give differently signed differences.
-            w.same_origin = w.same_origin &&
-                            std::bit_cast<std::uint32_t>(w.org_x[i]) == std::bit_cast<std::uint32_t>(w.org_x[f]) &&
-                            std::bit_cast<std::uint32_t>(w.org_y[i]) == std::bit_cast<std::uint32_t>(w.org_y[f]) &&
-                            std::bit_cast<std::uint32_t>(w.org_z[i]) == std::bit_cast<std::uint32_t>(w.org_z[f]);
+        // Four lanes at a time against lane f: the axes as values, the origins as bit patterns
+        // (0 and -0 give differently signed differences).
+        std::uint32_t axes = 0, origin = 0;
+        const B fx(w.kx[f]), fy(w.ky[f]), fz(w.kz[f]);
+        const __m128i ox = _mm_set1_epi32(std::bit_cast<int>(w.org_x[f])), oy = _mm_set1_epi32(std::bit_cast<int>(w.org_y[f])),
+                      oz = _mm_set1_epi32(std::bit_cast<int>(w.org_z[f]));
+        auto same_bits = [](const float* v, const __m128i& o) {
+            return _mm_cmpeq_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(v)), o);
+        };
+        for (int base = 0; base < 16; base += W) {
+            const auto same = (B::load_unaligned(w.kx + base) == fx) & (B::load_unaligned(w.ky + base) == fy) &
+                              (B::load_unaligned(w.kz + base) == fz);
+            axes |= sse::bits_of(same) << base;
+            const __m128i o = _mm_and_si128(_mm_and_si128(same_bits(w.org_x + base, ox), same_bits(w.org_y + base, oy)),
+                                            same_bits(w.org_z + base, oz));
+            origin |= std::uint32_t(_mm_movemask_ps(_mm_castsi128_ps(o))) << base;
         }
+        w.same_axes = (axes & w.active) == w.active;
+        w.same_origin = (origin & w.active) == w.active;
     }
     return w;
 }

@@ -69,6 +69,30 @@ Interval lane_range(const float* v, std::uint32_t lanes) {
     return {least(lo), most(hi)};
 }
 
+GroupRanges group_ranges(const Packet16& p, const PacketLanes& l, std::uint32_t lanes) {
+    const float* org[3] = {p.org_x, p.org_y, p.org_z};
+    B lo[6], hi[6];
+    for (int k = 0; k < 6; ++k) {
+        lo[k] = B(kInfinity);
+        hi[k] = B(-kInfinity);
+    }
+    for (int base = 0; base < 16; base += W) {
+        if (((lanes >> base) & 0xFu) == 0) continue;
+        const Mask on = lanes_on(lanes >> base);
+        for (int k = 0; k < 6; ++k) {
+            const B x = k < 3 ? B::load_unaligned(org[k] + base) : B::load_aligned(l.unit[k - 3] + base);
+            lo[k] = smin(lo[k], xsimd::select(on, x, B(kInfinity)));
+            hi[k] = smax(hi[k], xsimd::select(on, x, B(-kInfinity)));
+        }
+    }
+    GroupRanges g;
+    for (int k = 0; k < 3; ++k) {
+        g.org[k] = {least(lo[k]), most(hi[k])};
+        g.unit[k] = {least(lo[k + 3]), most(hi[k + 3])};
+    }
+    return g;
+}
+
 float farthest_distance(const float* tfar, const float* speed, std::uint32_t lanes) {
     B far(-kInfinity);
     for (int base = 0; base < 16; base += W) {

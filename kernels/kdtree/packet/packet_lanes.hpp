@@ -28,6 +28,13 @@ inline std::uint32_t octant_lanes(const PacketLanes& l, std::uint32_t lanes, int
 // Minimum and maximum of v[i] over the lanes i of `lanes` (at least one).
 Interval lane_range(const float* v, std::uint32_t lanes);
 
+// The ranges of the origins and of the unit directions (PacketLanes::unit) over the lanes of
+// `lanes` (at least one), in one pass: lane_range of each of the six, the same values.
+struct GroupRanges {
+    Interval org[3], unit[3];
+};
+GroupRanges group_ranges(const Packet16& p, const PacketLanes& l, std::uint32_t lanes);
+
 // The largest tfar[i] * speed[i] over the lanes (at least one): how far along its line any of them
 // still needs to look.
 float farthest_distance(const float* tfar, const float* speed, std::uint32_t lanes);

@@ -243,11 +243,11 @@ void interval_traversal(const PacketTraversalContext& c, const Packet16& packet,
 // factor kMaxRatio. Otherwise the group's interval bounds cover the whole hull of a widening beam (or
 // lose all precision for rays nearly parallel to a plane), and interval traversal visits far more
 // cells than the rays one by one would.
-bool well_conditioned(const PacketLanes& l, std::uint32_t lanes) {
+bool well_conditioned(const GroupRanges& g) {
     constexpr float kMaxSpread = 0.05f, kMaxRatio = 8.0f;
     for (int k = 0; k < 3; ++k) {
         // One sign per axis in a group: the magnitudes' range follows from the range.
-        const Interval u = lane_range(l.unit[k], lanes);
+        const Interval u = g.unit[k];
         const float alo = std::min(std::fabs(u.lo), std::fabs(u.hi)), ahi = std::max(std::fabs(u.lo), std::fabs(u.hi));
         if (u.hi - u.lo > kMaxSpread || ahi > kMaxRatio * alo) return false;
     }
@@ -295,12 +295,11 @@ void trace_packet(const PacketTraversalContext& c, const Packet16& packet, const
         if (lanes == 0) continue;
         bool together = __builtin_popcount(lanes) > 2;
         if (together) {
+            const GroupRanges g = group_ranges(packet, lanes_of, lanes);  // origins and unit directions, one pass
             Box origins;
-            const Interval x = lane_range(packet.org_x, lanes), y = lane_range(packet.org_y, lanes),
-                           z = lane_range(packet.org_z, lanes);
-            origins.lower = Float3{x.lo, y.lo, z.lo};
-            origins.upper = Float3{x.hi, y.hi, z.hi};
-            together = !(origins.diagonal() > far_apart) && well_conditioned(lanes_of, lanes);
+            origins.lower = Float3{g.org[0].lo, g.org[1].lo, g.org[2].lo};
+            origins.upper = Float3{g.org[0].hi, g.org[1].hi, g.org[2].hi};
+            together = !(origins.diagonal() > far_apart) && well_conditioned(g);
         }
         if (together) {
             interval_traversal<kOcclusion, kCount>(c, packet, lanes, start, lanes_of.speed, hits, occluded, counters);
