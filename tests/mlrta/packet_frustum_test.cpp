@@ -61,13 +61,35 @@ std::vector<Isa> isas() {
     return out;
 }
 
+// Compares a kernel's bits for triangles tris[0 .. n - 1] with the scalar reference, and counts the
+// decisions so that a test can check the generator made both kinds.
+struct Decisions {
+    std::uint64_t culled = 0, decided = 0;
+
+    testing::AssertionResult same(const OneOriginFrustum& f, std::uint32_t bits, const Triangle* tris, int n) {
+        if (bits >> n) return testing::AssertionFailure() << "bits past n";
+        for (int i = 0; i < n; ++i) {
+            const bool expected = f.misses(tris[i]);
+            if (((bits >> i) & 1u) != std::uint32_t(expected))
+                return testing::AssertionFailure() << "triangle " << i << " of " << n << ": reference says " << expected;
+            culled += expected;
+            ++decided;
+        }
+        return testing::AssertionSuccess();
+    }
+    void expect_both_kinds(Isa isa) const {
+        EXPECT_GT(culled, decided / 10) << isa_name(isa) << ": the generator should make many culled triangles";
+        EXPECT_LT(culled, decided - decided / 10) << isa_name(isa) << ": and many kept ones";
+    }
+};
+
 }  // namespace
 
 TEST(MlrtaPacketFrustum, KernelsDecideExactlyAsTheScalarReference) {
     for (Isa isa : isas()) {
         const FrustumCullKernel kernel = beamtrace::simd::select<PacketKernels>(isa).frustum_cull;
         Generator gen(11 + unsigned(isa));
-        std::uint64_t culled = 0, decided = 0;
+        Decisions decisions;
         for (int iter = 0; iter < 20000; ++iter) {
             const Packet16 p = gen.packet(iter % 3 == 0 ? 1000.0f : 3.0f);
             const OneOriginFrustum f = make_one_origin_frustum(p, p.active);
@@ -77,17 +99,9 @@ TEST(MlrtaPacketFrustum, KernelsDecideExactlyAsTheScalarReference) {
             Triangle leaf[16];  // a leaf's triangles side by side
             const int n = 1 + gen.pick(16);
             for (int i = 0; i < n; ++i) leaf[i] = tris[std::size_t(gen.pick(int(tris.size())))];
-            const std::uint32_t bits = kernel(f, leaf, n);
-            ASSERT_EQ(bits >> n, 0u) << isa_name(isa) << ": bits past n";
-            for (int i = 0; i < n; ++i) {
-                const bool expected = f.misses(leaf[i]);
-                ASSERT_EQ(((bits >> i) & 1u) != 0, expected) << isa_name(isa) << " triangle " << i << " of " << n;
-                culled += expected;
-                ++decided;
-            }
+            ASSERT_TRUE(decisions.same(f, kernel(f, leaf, n), leaf, n)) << isa_name(isa);
         }
-        EXPECT_GT(culled, decided / 10) << isa_name(isa) << ": the generator should make many culled triangles";
-        EXPECT_LT(culled, decided - decided / 10) << isa_name(isa) << ": and many kept ones";
+        decisions.expect_both_kinds(isa);
     }
 }
 
@@ -97,7 +111,7 @@ TEST(MlrtaPacketFrustum, RowKernelsDecideExactlyAsTheScalarReference) {
     for (Isa isa : isas()) {
         const FrustumCullRowsKernel kernel = beamtrace::simd::select<PacketKernels>(isa).frustum_cull_rows;
         Generator gen(21 + unsigned(isa));
-        std::uint64_t culled = 0, decided = 0;
+        Decisions decisions;
         for (int iter = 0; iter < 5000; ++iter) {
             const Packet16 p = gen.packet(iter % 3 == 0 ? 1000.0f : 3.0f);
             const OneOriginFrustum f = make_one_origin_frustum(p, p.active);
@@ -112,17 +126,9 @@ TEST(MlrtaPacketFrustum, RowKernelsDecideExactlyAsTheScalarReference) {
             const CornerRows rows{at.data(), stride};
             const std::size_t first = std::size_t(gen.pick(size));
             const int n = std::min(16, 1 + gen.pick(int(list.size() - first)));
-            const std::uint32_t bits = kernel(f, rows, first, n);
-            ASSERT_EQ(bits >> n, 0u) << isa_name(isa) << ": bits past n";
-            for (int i = 0; i < n; ++i) {
-                const bool expected = f.misses(list[first + std::size_t(i)]);
-                ASSERT_EQ(((bits >> i) & 1u) != 0, expected) << isa_name(isa) << " triangle " << i << " of " << n;
-                culled += expected;
-                ++decided;
-            }
+            ASSERT_TRUE(decisions.same(f, kernel(f, rows, first, n), list.data() + first, n)) << isa_name(isa);
         }
-        EXPECT_GT(culled, decided / 10) << isa_name(isa);
-        EXPECT_LT(culled, decided - decided / 10) << isa_name(isa);
+        decisions.expect_both_kinds(isa);
     }
 }
 
