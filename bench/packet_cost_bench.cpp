@@ -324,7 +324,7 @@ void bm_frustum_cull(benchmark::State& state, const std::string& name) {
         for (const LeafVisit& v : c.leaves) {
             const KdNode& leaf = kd.nodes[v.node];
             const int n = int(std::min<std::uint32_t>(16, leaf.triangle_count()));
-            culled += tables.kernels->frustum_cull_rows(frusta[v.packet], tables.rows(), leaf.offset(), n);
+            culled += tables.kernels->frustum_cull(frusta[v.packet], tables.rows(), leaf.offset(), n);
             triangles += std::uint64_t(n);
         }
     benchmark::DoNotOptimize(culled);

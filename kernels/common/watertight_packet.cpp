@@ -55,7 +55,8 @@ WatertightPacket16 make_watertight_packet(const Packet16& p) {
         // (0 and -0 give differently signed differences).
         std::uint32_t axes = 0, origin = 0;
         const B fx(w.kx[f]), fy(w.ky[f]), fz(w.kz[f]);
-        const __m128i ox = _mm_set1_epi32(std::bit_cast<int>(w.org_x[f])), oy = _mm_set1_epi32(std::bit_cast<int>(w.org_y[f])),
+        const __m128i ox = _mm_set1_epi32(std::bit_cast<int>(w.org_x[f])),
+                      oy = _mm_set1_epi32(std::bit_cast<int>(w.org_y[f])),
                       oz = _mm_set1_epi32(std::bit_cast<int>(w.org_z[f]));
         auto same_bits = [](const float* v, const __m128i& o) {
             return _mm_cmpeq_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(v)), o);

@@ -61,7 +61,7 @@ public:
         for (std::uint32_t j = 0; j < count; j += 16) {
             const int batch = int(std::min<std::uint32_t>(16, count - j));
             const std::uint32_t all = batch == 16 ? 0xFFFFu : (1u << batch) - 1u;
-            if (m_.kernels().frustum_cull_rows(triangles_, rows_, node.offset() + j, batch) != all) return true;
+            if (m_.kernels().frustum_cull(triangles_, rows_, node.offset() + j, batch) != all) return true;
         }
         return false;
     }
@@ -78,7 +78,7 @@ public:
             if (count <= kMaxBlockingCandidates) {
                 const std::uint32_t* ids = kd_.triangle_ids.data() + node.offset();
                 const Triangle* tris = kd_.leaf_triangles.data() + node.offset();
-                const std::uint32_t culled = m_.kernels().frustum_cull_rows(triangles_, rows_, node.offset(), int(count));
+                const std::uint32_t culled = m_.kernels().frustum_cull(triangles_, rows_, node.offset(), int(count));
                 for (std::uint32_t j = 0; j < count; ++j)
                     if (!((culled >> j) & 1u) && try_blocker(ids[j], tris[j], leaf.box)) return true;
             }
@@ -298,7 +298,7 @@ private:
     const Mlrta::Impl& m_;
     const KdTree::Impl& kd_;
     kdtree::CornerRows rows_;  // the leaf triangles' corners, for the frustum culling
-    Beam beam_;  // a copy: a blocker shortens its segments
+    Beam beam_;                // a copy: a blocker shortens its segments
     std::uint64_t& steps_;
     Frustum4 frustum_;
     OneOriginFrustum triangles_;  // valid for beams with one origin when settings.ep_triangles

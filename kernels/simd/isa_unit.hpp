@@ -24,12 +24,9 @@ struct UnitKernels {
     static void packet_one_triangle(const WatertightPacket16& p, const Triangle& tri, LaneHits& out) {
         packet_x1<Arch>(p, tri, out);
     }
-    static std::uint32_t frustum_cull(const kdtree::OneOriginFrustum& f, const Triangle* tris, int n) {
-        return kdtree::simd_impl::frustum_misses<Arch>(f, tris, n);
-    }
-    static std::uint32_t frustum_cull_rows(const kdtree::OneOriginFrustum& f, const kdtree::CornerRows& rows,
-                                           std::size_t first, int n) {
-        return kdtree::simd_impl::frustum_misses_rows<Arch>(f, rows, first, n);
+    static std::uint32_t frustum_cull(const kdtree::OneOriginFrustum& f, const kdtree::CornerRows& rows,
+                                      std::size_t first, int n) {
+        return kdtree::simd_impl::frustum_misses<Arch>(f, rows, first, n);
     }
     static std::uint32_t lane_box(const kdtree::LaneBoxRays& s, const float* tfar, std::uint32_t lanes,
                                   const Box& box) {
@@ -39,7 +36,7 @@ struct UnitKernels {
         vlf::lookup_packet_simd<Arch>(t, p, out, first_tiles);
     }
     // Every ISA's table of packet traversal kernels has its own forms.
-    static constexpr kdtree::PacketKernels packet_kernels(Isa isa) { return {isa, frustum_cull, frustum_cull_rows, lane_box}; }
+    static constexpr kdtree::PacketKernels packet_kernels(Isa isa) { return {isa, frustum_cull, lane_box}; }
 };
 
 }  // namespace beamtrace::simd

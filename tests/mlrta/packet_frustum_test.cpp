@@ -71,7 +71,8 @@ struct Decisions {
         for (int i = 0; i < n; ++i) {
             const bool expected = f.misses(tris[i]);
             if (((bits >> i) & 1u) != std::uint32_t(expected))
-                return testing::AssertionFailure() << "triangle " << i << " of " << n << ": reference says " << expected;
+                return testing::AssertionFailure()
+                       << "triangle " << i << " of " << n << ": reference says " << expected;
             culled += expected;
             ++decided;
         }
@@ -86,33 +87,13 @@ struct Decisions {
 }  // namespace
 
 TEST(MlrtaPacketFrustum, KernelsDecideExactlyAsTheScalarReference) {
+    // The kernels load the corners from rows (the tree's layout, CornerRows): the same decisions as
+    // the reference, bit for bit, at every start in a list and with the rows' padding read.
     for (Isa isa : isas()) {
         const FrustumCullKernel kernel = beamtrace::simd::select<PacketKernels>(isa).frustum_cull;
         Generator gen(11 + unsigned(isa));
         Decisions decisions;
         for (int iter = 0; iter < 20000; ++iter) {
-            const Packet16 p = gen.packet(iter % 3 == 0 ? 1000.0f : 3.0f);
-            const OneOriginFrustum f = make_one_origin_frustum(p, p.active);
-            ASSERT_TRUE(f.valid);
-            std::vector<Triangle> tris;
-            for (int i = 0; i < 40; ++i) tris.push_back(gen.triangle_near(p));
-            Triangle leaf[16];  // a leaf's triangles side by side
-            const int n = 1 + gen.pick(16);
-            for (int i = 0; i < n; ++i) leaf[i] = tris[std::size_t(gen.pick(int(tris.size())))];
-            ASSERT_TRUE(decisions.same(f, kernel(f, leaf, n), leaf, n)) << isa_name(isa);
-        }
-        decisions.expect_both_kinds(isa);
-    }
-}
-
-TEST(MlrtaPacketFrustum, RowKernelsDecideExactlyAsTheScalarReference) {
-    // The kernels that load the corners from rows (the tree's layout) instead of gathering them:
-    // the same decisions, bit for bit, at every start in a list and with the rows' padding read.
-    for (Isa isa : isas()) {
-        const FrustumCullRowsKernel kernel = beamtrace::simd::select<PacketKernels>(isa).frustum_cull_rows;
-        Generator gen(21 + unsigned(isa));
-        Decisions decisions;
-        for (int iter = 0; iter < 5000; ++iter) {
             const Packet16 p = gen.packet(iter % 3 == 0 ? 1000.0f : 3.0f);
             const OneOriginFrustum f = make_one_origin_frustum(p, p.active);
             ASSERT_TRUE(f.valid);

@@ -10,14 +10,7 @@
 
 namespace beamtrace::kdtree {
 
-std::uint32_t frustum_misses(const OneOriginFrustum& f, const Triangle* tris, int n) {
-    std::uint32_t bits = 0;
-    for (int i = 0; i < n; ++i)
-        if (f.misses(tris[i])) bits |= 1u << i;
-    return bits;
-}
-
-std::uint32_t frustum_misses_rows(const OneOriginFrustum& f, const CornerRows& rows, std::size_t first, int n) {
+std::uint32_t frustum_misses(const OneOriginFrustum& f, const CornerRows& rows, std::size_t first, int n) {
     std::uint32_t bits = 0;
     for (int i = 0; i < n; ++i)
         if (f.misses(rows.triangle(first + std::size_t(i)))) bits |= 1u << i;

@@ -74,9 +74,6 @@ struct OneOriginFrustum {
 // component; `valid` is false (nothing culled) unless they share one origin.
 OneOriginFrustum make_one_origin_frustum(const Packet16& packet, std::uint32_t mask);
 
-// Bit i set when the frustum misses tris[i], for i < n (n <= 16; a leaf's triangles side by side).
-using FrustumCullKernel = std::uint32_t (*)(const OneOriginFrustum& f, const Triangle* tris, int n);
-
 // The corners of the tree's leaf triangles as nine rows (row c = corner c / 3, axis c % 3), one
 // float per leaf triangle in the leaves' order: coordinate c of leaf triangle r is
 // at[c * stride + r]. Each row is followed by at least 16 padding floats (zeros), so that a kernel
@@ -87,19 +84,18 @@ struct CornerRows {
     std::size_t stride = 0;
     float get(std::size_t r, int c) const { return at[std::size_t(c) * stride + r]; }
     Triangle triangle(std::size_t r) const {
-        return {{get(r, 0), get(r, 1), get(r, 2)}, {get(r, 3), get(r, 4), get(r, 5)}, {get(r, 6), get(r, 7), get(r, 8)}};
+        return {
+            {get(r, 0), get(r, 1), get(r, 2)}, {get(r, 3), get(r, 4), get(r, 5)}, {get(r, 6), get(r, 7), get(r, 8)}};
     }
 };
 
-// Bit i set when the frustum misses leaf triangle first + i of `rows`, for i < n (n <= 16): the
-// same decisions as FrustumCullKernel on the same triangles, bit for bit.
-using FrustumCullRowsKernel = std::uint32_t (*)(const OneOriginFrustum& f, const CornerRows& rows, std::size_t first,
-                                                int n);
+// Bit i set when the frustum misses leaf triangle first + i of `rows`, for i < n (n <= 16; a
+// leaf's triangles are consecutive).
+using FrustumCullKernel = std::uint32_t (*)(const OneOriginFrustum& f, const CornerRows& rows, std::size_t first,
+                                            int n);
 
 // The scalar reference of the kernel, triangle by triangle with OneOriginFrustum::misses. The SIMD
 // kernels (PacketKernels::frustum_cull, packet_kernels.hpp) decide 4, 8 or 16 at a time.
-std::uint32_t frustum_misses(const OneOriginFrustum& f, const Triangle* tris, int n);
-// The same reference on corner rows.
-std::uint32_t frustum_misses_rows(const OneOriginFrustum& f, const CornerRows& rows, std::size_t first, int n);
+std::uint32_t frustum_misses(const OneOriginFrustum& f, const CornerRows& rows, std::size_t first, int n);
 
 }  // namespace beamtrace::kdtree

@@ -5,8 +5,7 @@ namespace beamtrace {
 
 template <>
 const kdtree::PacketKernels& simd::table<kdtree::PacketKernels, Isa::scalar>() {
-    static constexpr kdtree::PacketKernels kScalar{Isa::scalar, kdtree::frustum_misses, kdtree::frustum_misses_rows,
-                                                       kdtree::lanes_meeting_box};
+    static constexpr kdtree::PacketKernels kScalar{Isa::scalar, kdtree::frustum_misses, kdtree::lanes_meeting_box};
     return kScalar;
 }
 

@@ -10,8 +10,7 @@ namespace beamtrace::kdtree {
 
 struct PacketKernels {
     Isa isa;
-    FrustumCullKernel frustum_cull;           // scalar: frustum_misses; SSE4.2 4, AVX2 8, AVX-512 16 triangles a step
-    FrustumCullRowsKernel frustum_cull_rows;  // the same on the tree's corner rows; scalar: frustum_misses_rows
+    FrustumCullKernel frustum_cull;  // on the corner rows; scalar: frustum_misses; SSE4.2 4, AVX2 8, AVX-512 16 a step
     LaneBoxKernel lane_box;          // scalar: lanes_meeting_box
 };
 

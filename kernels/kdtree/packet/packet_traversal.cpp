@@ -185,8 +185,8 @@ void interval_traversal(const PacketTraversalContext& c, const Packet16& packet,
             const bool cull = frustum.valid && count > kMinCulledLeaf;
             for (std::uint32_t j = 0; j < count; ++j) {
                 if (cull && j % 16 == 0)  // the next 16 triangles decided at once (SIMD, from the corner rows)
-                    culled = packet_kernels.frustum_cull_rows(frustum, rows, node.offset() + j,
-                                                              int(std::min<std::uint32_t>(16, count - j)));
+                    culled = packet_kernels.frustum_cull(frustum, rows, node.offset() + j,
+                                                         int(std::min<std::uint32_t>(16, count - j)));
                 const std::uint32_t id = leaf[j];
                 std::uint32_t& slot = mailbox[id % kMailboxSize];
                 if (slot == id) continue;  // already tested for every lane: the result cannot change
