@@ -20,7 +20,6 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
@@ -40,11 +39,8 @@
 #include "mlrta/entry_point_search.hpp"
 #include "mlrta/entry_point_trace.hpp"
 #include "mlrta/mlrta_impl.hpp"
+#include "bench_scenes.hpp"
 #include "rays/workload.hpp"
-
-#ifndef BEAMTRACE_SCENES_DIR
-#error "BEAMTRACE_SCENES_DIR must name the folder of the shared scene files"
-#endif
 
 namespace {
 
@@ -82,16 +78,10 @@ std::uint32_t leaf_at(const KdTree::Impl& kd, Float3 p) {
 
 std::unique_ptr<Case> make_case(const std::string& name) {
     auto c = std::make_unique<Case>();
-    std::string spec = name;
-    if (name == "bunny") {
-        spec = std::string(BEAMTRACE_SCENES_DIR) + "/bunny00.off";
-        if (!std::filesystem::exists(spec)) {
-            c->error = "scene file " + spec + " is absent";
-            return c;
-        }
-    }
+    const std::optional<std::string> spec = beamtrace::bench::scene_spec(name, c->error);
+    if (!spec) return c;
     workload::WorkloadConfig config;
-    config.scene = spec;
+    config.scene = *spec;
     config.width = config.height = kImageSize;
     c->work.emplace(workload::make_workload(config));
     c->tree.emplace(KdTree::build(c->work->source.scene));

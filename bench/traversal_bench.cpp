@@ -20,7 +20,6 @@
 #include <bit>
 #include <cstdint>
 #include <exception>
-#include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
@@ -30,11 +29,8 @@
 #include "beamtrace/kdtree.hpp"
 #include "simd/isa.hpp"
 #include "oracle/embree_native_rays.hpp"
+#include "bench_scenes.hpp"
 #include "rays/workload.hpp"
-
-#ifndef BEAMTRACE_SCENES_DIR
-#error "BEAMTRACE_SCENES_DIR must name the folder of the shared scene files"
-#endif
 
 namespace {
 
@@ -101,17 +97,11 @@ Rays collect(const workload::RaySet& set, const KdTree& tree, Mode mode) {
 
 std::unique_ptr<SceneCase> build_case(const std::string& name) {
     auto c = std::make_unique<SceneCase>();
-    std::string spec = name;
-    if (name == "bunny") {
-        spec = std::string(BEAMTRACE_SCENES_DIR) + "/bunny00.off";
-        if (!std::filesystem::exists(spec)) {
-            c->error = "scene file " + spec + " is absent: bunny benchmarks skipped";
-            return c;
-        }
-    }
+    const std::optional<std::string> spec = beamtrace::bench::scene_spec(name, c->error);
+    if (!spec) return c;
     try {
         workload::WorkloadConfig config;
-        config.scene = spec;
+        config.scene = *spec;
         config.mode = workload::Mode::shadow;
         config.width = kImageSize;
         config.height = kImageSize;

@@ -18,6 +18,14 @@ struct Corners {
     B ax, ay, az, bx, by, bz, cx, cy, cz;
 };
 
+// The corners from corner(c, slot): corner c (0 = a, 1 = b, 2 = c) on the ray's axis `slot`
+// (0 = kx, 1 = ky, 2 = kz). Inlined, so each call sees constant arguments.
+template <class Arch, class Corner>
+[[gnu::always_inline]] inline Corners<Arch> make_corners(const Corner& corner) {
+    return {corner(0, 0), corner(0, 1), corner(0, 2), corner(1, 0), corner(1, 1),
+            corner(1, 2), corner(2, 0), corner(2, 1), corner(2, 2)};
+}
+
 // The shared core: shear, edge functions (with the double-precision fallback on lanes where one is
 // exactly zero), sign test, determinant and distance. Writes t, u, v of hitting lanes into out at
 // lane offset `base` and returns their bits (relative to base).
@@ -85,17 +93,9 @@ template <class Arch>
         for (int c = 0; c < 9; ++c) comp[c][i] = f[c];
     }
     const float* o = &r.org.x;
-    const B okx(o[r.kx]), oky(o[r.ky]), okz(o[r.kz]);
-    Corners<Arch> k;
-    k.ax = B::load_aligned(comp[0 + r.kx]) - okx;
-    k.ay = B::load_aligned(comp[0 + r.ky]) - oky;
-    k.az = B::load_aligned(comp[0 + r.kz]) - okz;
-    k.bx = B::load_aligned(comp[3 + r.kx]) - okx;
-    k.by = B::load_aligned(comp[3 + r.ky]) - oky;
-    k.bz = B::load_aligned(comp[3 + r.kz]) - okz;
-    k.cx = B::load_aligned(comp[6 + r.kx]) - okx;
-    k.cy = B::load_aligned(comp[6 + r.ky]) - oky;
-    k.cz = B::load_aligned(comp[6 + r.kz]) - okz;
+    const int axis[3] = {r.kx, r.ky, r.kz};
+    const Corners<Arch> k = make_corners<Arch>(
+        [&](int c, int slot) { return B::load_aligned(comp[3 * c + axis[slot]]) - B(o[axis[slot]]); });
     const std::uint32_t valid = (n >= W) ? ((1u << W) - 1u) : ((1u << n) - 1u);
     out.mask |= watertight_core<Arch>(k, B(r.sx), B(r.sy), B(r.sz), B(r.tnear), B(r.tfar), valid, out, base) << base;
 }
@@ -113,53 +113,32 @@ template <class Arch>
         // One permutation for every lane: pick the corner components once (scalar), then subtract
         // the origin per lane, or once when it is shared. Same operations, same results.
         const float* v = &tri.v0.x;
-        const int kx = p.axis[0], ky = p.axis[1], kz = p.axis[2];
+        const int* axis = p.axis;
         const float* org[3] = {p.org_x, p.org_y, p.org_z};
         if (p.same_origin) {
-            const float o[3] = {org[0][p.first], org[1][p.first], org[2][p.first]};
-            k.ax = B(v[kx] - o[kx]);
-            k.ay = B(v[ky] - o[ky]);
-            k.az = B(v[kz] - o[kz]);
-            k.bx = B(v[3 + kx] - o[kx]);
-            k.by = B(v[3 + ky] - o[ky]);
-            k.bz = B(v[3 + kz] - o[kz]);
-            k.cx = B(v[6 + kx] - o[kx]);
-            k.cy = B(v[6 + ky] - o[ky]);
-            k.cz = B(v[6 + kz] - o[kz]);
+            k = make_corners<Arch>([&](int c, int slot) {
+                const int a = axis[slot];
+                return B(v[3 * c + a] - org[a][p.first]);
+            });
         } else {
-            const B ox = B::load_aligned(org[kx] + base), oy = B::load_aligned(org[ky] + base),
-                    oz = B::load_aligned(org[kz] + base);
-            k.ax = B(v[kx]) - ox;
-            k.ay = B(v[ky]) - oy;
-            k.az = B(v[kz]) - oz;
-            k.bx = B(v[3 + kx]) - ox;
-            k.by = B(v[3 + ky]) - oy;
-            k.bz = B(v[3 + kz]) - oz;
-            k.cx = B(v[6 + kx]) - ox;
-            k.cy = B(v[6 + ky]) - oy;
-            k.cz = B(v[6 + kz]) - oz;
+            const B o[3] = {B::load_aligned(org[axis[0]] + base), B::load_aligned(org[axis[1]] + base),
+                            B::load_aligned(org[axis[2]] + base)};
+            k = make_corners<Arch>([&](int c, int slot) { return B(v[3 * c + axis[slot]]) - o[slot]; });
         }
     } else {
-        const B kx = B::load_aligned(p.kx + base), ky = B::load_aligned(p.ky + base), kz = B::load_aligned(p.kz + base);
+        const B kk[3] = {B::load_aligned(p.kx + base), B::load_aligned(p.ky + base), B::load_aligned(p.kz + base)};
         const B ox = B::load_aligned(p.org_x + base), oy = B::load_aligned(p.org_y + base),
                 oz = B::load_aligned(p.org_z + base);
         const B one(1.0f), zero(0.0f);
-        // Picks component k (0, 1, 2) of (x, y, z) per lane; values are moved, never rounded.
-        auto pick = [&](const B& kk, const B& x, const B& y, const B& z) {
-            return xsimd::select(kk == zero, x, xsimd::select(kk == one, y, z));
-        };
-        const B ax = B(tri.v0.x) - ox, ay = B(tri.v0.y) - oy, az = B(tri.v0.z) - oz;
-        const B bx = B(tri.v1.x) - ox, by = B(tri.v1.y) - oy, bz = B(tri.v1.z) - oz;
-        const B cx = B(tri.v2.x) - ox, cy = B(tri.v2.y) - oy, cz = B(tri.v2.z) - oz;
-        k.ax = pick(kx, ax, ay, az);
-        k.ay = pick(ky, ax, ay, az);
-        k.az = pick(kz, ax, ay, az);
-        k.bx = pick(kx, bx, by, bz);
-        k.by = pick(ky, bx, by, bz);
-        k.bz = pick(kz, bx, by, bz);
-        k.cx = pick(kx, cx, cy, cz);
-        k.cy = pick(ky, cx, cy, cz);
-        k.cz = pick(kz, cx, cy, cz);
+        // The corners relative to the origin, then component kk (0, 1, 2) of each per lane; values
+        // are moved, never rounded.
+        const B rel[3][3] = {{B(tri.v0.x) - ox, B(tri.v0.y) - oy, B(tri.v0.z) - oz},
+                             {B(tri.v1.x) - ox, B(tri.v1.y) - oy, B(tri.v1.z) - oz},
+                             {B(tri.v2.x) - ox, B(tri.v2.y) - oy, B(tri.v2.z) - oz}};
+        k = make_corners<Arch>([&](int c, int slot) {
+            const B& which = kk[slot];
+            return xsimd::select(which == zero, rel[c][0], xsimd::select(which == one, rel[c][1], rel[c][2]));
+        });
     }
     out.mask |= watertight_core<Arch>(k, B::load_aligned(p.sx + base), B::load_aligned(p.sy + base),
                                       B::load_aligned(p.sz + base), B::load_aligned(p.tnear + base),

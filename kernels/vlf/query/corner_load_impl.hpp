@@ -24,8 +24,7 @@ inline constexpr int kCopiedCorners = 6;  // at most this many triangles are cop
                                                                          const std::uint32_t* ids, __mmask16 lanes) {
     using B = xsimd::batch<float, xsimd::avx512bw>;
     const float* o = &ray.org.x;
-    const int kx = ray.kx, ky = ray.ky, kz = ray.kz;
-    simd::Corners<xsimd::avx512bw> k;
+    const int axis[3] = {ray.kx, ray.ky, ray.kz};
     if (__builtin_popcount(lanes) <= kCopiedCorners) {
         alignas(64) float comp[9][16];  // only the lanes in `lanes` are written, and read
         for (std::uint32_t m = lanes; m; m &= m - 1) {
@@ -33,34 +32,18 @@ inline constexpr int kCopiedCorners = 6;  // at most this many triangles are cop
             const float* v = &triangles[ids[i]].v0.x;
             for (int c = 0; c < 9; ++c) comp[c][i] = v[c];
         }
-        auto at = [&](int c, int axis) { return B(_mm512_maskz_load_ps(lanes, comp[3 * c + axis])) - B(o[axis]); };
-        k.ax = at(0, kx);
-        k.ay = at(0, ky);
-        k.az = at(0, kz);
-        k.bx = at(1, kx);
-        k.by = at(1, ky);
-        k.bz = at(1, kz);
-        k.cx = at(2, kx);
-        k.cy = at(2, ky);
-        k.cz = at(2, kz);
-        return k;
+        return simd::make_corners<xsimd::avx512bw>([&](int c, int slot) {
+            const int a = axis[slot];
+            return B(_mm512_maskz_load_ps(lanes, comp[3 * c + a])) - B(o[a]);
+        });
     }
     const __m512i at = _mm512_mullo_epi32(_mm512_maskz_loadu_epi32(lanes, ids), _mm512_set1_epi32(9));
     const float* base = &triangles[0].v0.x;
-    auto corner = [&](int c, int axis) {
-        const __m512i index = _mm512_add_epi32(at, _mm512_set1_epi32(3 * c + axis));
-        return B(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), lanes, index, base, 4)) - B(o[axis]);
-    };
-    k.ax = corner(0, kx);
-    k.ay = corner(0, ky);
-    k.az = corner(0, kz);
-    k.bx = corner(1, kx);
-    k.by = corner(1, ky);
-    k.bz = corner(1, kz);
-    k.cx = corner(2, kx);
-    k.cy = corner(2, ky);
-    k.cz = corner(2, kz);
-    return k;
+    return simd::make_corners<xsimd::avx512bw>([&](int c, int slot) {
+        const int a = axis[slot];
+        const __m512i index = _mm512_add_epi32(at, _mm512_set1_epi32(3 * c + a));
+        return B(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), lanes, index, base, 4)) - B(o[a]);
+    });
 }
 #endif
 

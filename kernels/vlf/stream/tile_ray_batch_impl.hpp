@@ -87,24 +87,14 @@ namespace {
         if (live == 0) continue;
         const __m512i id = _mm512_maskz_loadu_epi32(live, ids + p);
         const __m512i at = _mm512_mullo_epi32(id, _mm512_set1_epi32(9));
-        const __m512i ax = _mm512_permutexvar_epi32(lane, kx), ay = _mm512_permutexvar_epi32(lane, ky),
-                      az = _mm512_permutexvar_epi32(lane, kz);
-        const B ox(_mm512_permutexvar_ps(lane, okx)), oy(_mm512_permutexvar_ps(lane, oky)),
-            oz(_mm512_permutexvar_ps(lane, okz));
-        auto corner = [&](int c, const __m512i& axis, const B& o) {
-            const __m512i index = _mm512_add_epi32(_mm512_add_epi32(at, axis), _mm512_set1_epi32(3 * c));
-            return B(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), live, index, base, 4)) - o;
-        };
-        simd::Corners<Arch> k;
-        k.ax = corner(0, ax, ox);
-        k.ay = corner(0, ay, oy);
-        k.az = corner(0, az, oz);
-        k.bx = corner(1, ax, ox);
-        k.by = corner(1, ay, oy);
-        k.bz = corner(1, az, oz);
-        k.cx = corner(2, ax, ox);
-        k.cy = corner(2, ay, oy);
-        k.cz = corner(2, az, oz);
+        const __m512i axis[3] = {_mm512_permutexvar_epi32(lane, kx), _mm512_permutexvar_epi32(lane, ky),
+                                 _mm512_permutexvar_epi32(lane, kz)};
+        const B o[3] = {B(_mm512_permutexvar_ps(lane, okx)), B(_mm512_permutexvar_ps(lane, oky)),
+                        B(_mm512_permutexvar_ps(lane, okz))};
+        const simd::Corners<Arch> k = simd::make_corners<Arch>([&](int c, int slot) {
+            const __m512i index = _mm512_add_epi32(_mm512_add_epi32(at, axis[slot]), _mm512_set1_epi32(3 * c));
+            return B(_mm512_mask_i32gather_ps(_mm512_setzero_ps(), live, index, base, 4)) - o[slot];
+        });
         LaneHits hits;
         const std::uint32_t bits =
             simd::watertight_core<Arch>(k, B(_mm512_permutexvar_ps(lane, sx)), B(_mm512_permutexvar_ps(lane, sy)),
