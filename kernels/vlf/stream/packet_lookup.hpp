@@ -55,17 +55,8 @@ struct alignas(64) PacketLookup {
                             t1[i], column[i], row[i], inv_dx[i], inv_dy[i], inv_dz[i]};
     }
     WatertightRay watertight(int i, const Packet16& p) const {
-        WatertightRay w;
-        w.org = Float3{p.org_x[i], p.org_y[i], p.org_z[i]};
-        w.kx = kx[i];
-        w.ky = ky[i];
-        w.kz = kz[i];
-        w.sx = sx[i];
-        w.sy = sy[i];
-        w.sz = sz[i];
-        w.tnear = p.tnear[i];
-        w.tfar = p.tfar[i];
-        return w;
+        return {Float3{p.org_x[i], p.org_y[i], p.org_z[i]}, kx[i], ky[i], kz[i], sx[i], sy[i], sz[i], p.tnear[i],
+                p.tfar[i]};
     }
 };
 

@@ -61,21 +61,11 @@ struct alignas(64) TileRayBatch {
         slot[i] = r.slot;
     }
     WatertightRay ray(std::uint32_t i) const {
-        WatertightRay w;
         float o[3];
         o[kx[i]] = okx[i];
         o[ky[i]] = oky[i];
         o[kz[i]] = okz[i];
-        w.org = Float3{o[0], o[1], o[2]};
-        w.kx = kx[i];
-        w.ky = ky[i];
-        w.kz = kz[i];
-        w.sx = sx[i];
-        w.sy = sy[i];
-        w.sz = sz[i];
-        w.tnear = tnear[i];
-        w.tfar = tfar[i];
-        return w;
+        return {Float3{o[0], o[1], o[2]}, kx[i], ky[i], kz[i], sx[i], sy[i], sz[i], tnear[i], tfar[i]};
     }
 };
 
