@@ -4,6 +4,8 @@
 //
 //   <scene>/kd16_packet        a whole packet by the kd-tree's packet traversal from the root
 //   <scene>/mlrta_packet       the image by MLRTA (tiles, beams, entry points), per packet
+//   <scene>/mlrta_2x2_packet   the same with 2x2 packets traced together (xp_packets 2, MTS 8)
+//   <scene>/mlrta_4x4_packet   the same with 4x4 packets traced together (xp_packets 4, MTS 16)
 //   <scene>/packet_setup       a packet's set-up for interval traversal: lanes (direction lengths,
 //                              octants), the per-lane box rays, the one-origin frustum, the
 //                              watertight packet
@@ -168,18 +170,23 @@ void bm_kd16_packet(benchmark::State& state, const std::string& name) {
     per(state, c.packets.size(), "packets");
 }
 
-void bm_mlrta_packet(benchmark::State& state, const std::string& name) {
+// MLRTA with `side` x `side` packets traced together (1: the paper's settings, the default).
+void bm_mlrta_packet_side(benchmark::State& state, const std::string& name, int side) {
     Case& c = scene_case(name);
     if (!usable(state, c)) return;
+    MlrtaSettings settings = c.mlrta->settings();
+    settings.experimental.xp_packets = side;
+    settings.min_tile = std::max(settings.min_tile, 4 * side);
+    const Mlrta mlrta(*c.tree, settings);
     const workload::RaySet& rays = c.work->rays;
     const PacketGrid grid{rays.packets.data(), rays.packets_x, rays.packets_y};
     std::vector<PacketHits16> hits(rays.packets.size());
     for (auto _ : state) {
-        c.mlrta->intersect(grid, hits);
+        mlrta.intersect(grid, hits);
         benchmark::DoNotOptimize(hits.data());
     }
     QueryCounters counters;
-    c.mlrta->intersect(grid, hits, QueryOptions{1, &counters});
+    mlrta.intersect(grid, hits, QueryOptions{1, &counters});
     const double n = double(rays.packets.size());
     state.counters["ep_steps_per_packet"] = double(counters.mlrta.ep_steps) / n;
     state.counters["xp_steps_per_packet"] = double(counters.packet_steps) / n;
@@ -187,6 +194,9 @@ void bm_mlrta_packet(benchmark::State& state, const std::string& name) {
     state.counters["tiles"] = double(counters.mlrta.tiles);
     per(state, rays.packets.size(), "packets of the grid");
 }
+void bm_mlrta_packet(benchmark::State& state, const std::string& name) { bm_mlrta_packet_side(state, name, 1); }
+void bm_mlrta_2x2_packet(benchmark::State& state, const std::string& name) { bm_mlrta_packet_side(state, name, 2); }
+void bm_mlrta_4x4_packet(benchmark::State& state, const std::string& name) { bm_mlrta_packet_side(state, name, 4); }
 
 void bm_packet_setup(benchmark::State& state, const std::string& name) {
     Case& c = scene_case(name);
@@ -333,6 +343,8 @@ void register_all() {
         };
         add("kd16_packet", bm_kd16_packet);
         add("mlrta_packet", bm_mlrta_packet);
+        add("mlrta_2x2_packet", bm_mlrta_2x2_packet);
+        add("mlrta_4x4_packet", bm_mlrta_4x4_packet);
         add("packet_setup", bm_packet_setup);
         add("beam_of_packet", bm_beam_of_packet);
         add("ep_search", bm_ep_search);

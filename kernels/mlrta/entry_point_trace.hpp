@@ -14,6 +14,13 @@ template <bool kOcclusion, bool kCount>
 void trace_packet(const Mlrta::Impl& m, const Packet16& packet, const EntryPoint& ep, PacketHits16* hits,
                   std::uint32_t* occluded, QueryCounters* counters, const SearchTrail* trail = nullptr);
 
+// Packets packets[0 .. n) of one tile together (kdtree::trace_packets_together) from `ep`, as
+// trace_packet for each.
+template <bool kOcclusion, bool kCount>
+void trace_packets_together(const Mlrta::Impl& m, const Packet16* const* packets, int n, const EntryPoint& ep,
+                            PacketHits16* const* hits, std::uint32_t* const* occluded, QueryCounters* counters,
+                            const SearchTrail* trail = nullptr);
+
 // The root of the tree as an entry point.
 EntryPoint root_entry(const Mlrta::Impl& m);
 

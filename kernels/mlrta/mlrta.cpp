@@ -23,6 +23,8 @@ void MlrtaSettings::validate() const {
     if (min_tile < 4 || min_tile % 4 != 0 || min_tile > initial_tile)
         fail("min_tile must be a multiple of 4 between 4 and initial_tile");
     if (split_factor != 4 && split_factor != 16) fail("split_factor must be 4 or 16");
+    const int xp = experimental.xp_packets;
+    if (xp != 1 && xp != 2 && xp != 4) fail("experimental.xp_packets must be 1, 2 or 4 (packets per side traced together)");
 }
 
 Mlrta::Impl::Impl(const KdTree& t, const MlrtaSettings& s)

@@ -4,6 +4,7 @@
 
 #include "common/ray_validity.hpp"
 #include "mlrta/entry_point_search.hpp"
+#include "kdtree/packet/packet_traversal.hpp"
 #include "mlrta/entry_point_trace.hpp"
 #include "mlrta/shadow_reversal.hpp"
 
@@ -147,11 +148,31 @@ void TileTracer<kOcclusion, kCount>::trace_packets(int x0, int y0, int x1, int y
         const std::size_t subtree = m_.subtree_nodes[ep.node];
         (*observer_)(TileInfo{x0, y0, x1, y1, ep.node, ep.misses ? 0 : subtree, divergent});
     }
-    for (int y = y0; y < y1; ++y)
-        for (int x = x0; x < x1; ++x) {
-            const std::size_t p = std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x);
-            trace_packet<kOcclusion, kCount>(m_, packet(x, y), ep, kOcclusion ? nullptr : hits_ + p,
-                                             kOcclusion ? occluded_ + p : nullptr, counters_, trail);
+    const int side = m_.settings.experimental.xp_packets;  // packets traced together: side x side
+    if (side == 1 || divergent) {
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+                const std::size_t p = std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x);
+                trace_packet<kOcclusion, kCount>(m_, packet(x, y), ep, kOcclusion ? nullptr : hits_ + p,
+                                                 kOcclusion ? occluded_ + p : nullptr, counters_, trail);
+            }
+        return;
+    }
+    const Packet16* block[kdtree::kMaxTogether];
+    PacketHits16* block_hits[kdtree::kMaxTogether];
+    std::uint32_t* block_occluded[kdtree::kMaxTogether];
+    for (int by = y0; by < y1; by += side)
+        for (int bx = x0; bx < x1; bx += side) {
+            int n = 0;
+            for (int y = by; y < std::min(by + side, y1); ++y)
+                for (int x = bx; x < std::min(bx + side, x1); ++x) {
+                    const std::size_t p = std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x);
+                    block[n] = &packet(x, y);
+                    block_hits[n] = kOcclusion ? nullptr : hits_ + p;
+                    block_occluded[n] = kOcclusion ? occluded_ + p : nullptr;
+                    ++n;
+                }
+            trace_packets_together<kOcclusion, kCount>(m_, block, n, ep, block_hits, block_occluded, counters_, trail);
         }
 }
 

@@ -115,6 +115,8 @@ void run_every_setting(const KdTree& tree, const Image& img, int& covered_entrie
                                     (threads == 2) != stuck;  // mixed in, not a full product
                                 s.experimental.ep_resume = (threads == 1) != (order == EpSearch::top_down);
                                 s.experimental.retry_stuck = (sf == 16) != (ft == FrustumTest::direct);
+                                // 1, 2 or 4 packets per side traced together, mixed in
+                                s.experimental.xp_packets = 1 << ((its / 16 + mts / 4 + threads + int(order)) % 3);
                                 const Mlrta mlrta(tree, s);
                                 std::vector<PacketHits16> hits(img.packets.size());
                                 std::vector<TileInfo> tiles;
@@ -129,7 +131,8 @@ void run_every_setting(const KdTree& tree, const Image& img, int& covered_entrie
                                                           " MTS " + std::to_string(mts) + " direct " +
                                                           std::to_string(ft == FrustumTest::direct) + " order " +
                                                           std::to_string(int(order)) + " stuck " +
-                                                          std::to_string(stuck) + " threads " + std::to_string(threads);
+                                                          std::to_string(stuck) + " threads " + std::to_string(threads) +
+                                                          " xp " + std::to_string(s.experimental.xp_packets);
                                 ASSERT_TRUE(same_as_kd(tree, img, hits)) << where;
                                 ASSERT_TRUE(tiles_partition(tiles, img.grid, s, subtree)) << where;
                                 for (const TileInfo& t : tiles)
@@ -230,6 +233,52 @@ TEST(MlrtaTileSplitter, ResumedSearchesAndTraversalsGiveTheSameAnswersInFewerSte
         }
 }
 
+// Blocks of 2x2 and 4x4 packets traced by one interval traversal (xp_packets) on `tree` and `img`:
+// the same closest hits as the kd-tree's single rays, the same occlusion bits as packets alone.
+// Returns the packet steps of xp 1, 2, 4.
+std::vector<std::uint64_t> trace_together(const KdTree& tree, const Image& img) {
+    const PacketGrid short_grid{img.short_packets.data(), img.grid.columns, img.grid.rows};
+    std::vector<std::uint32_t> alone;
+    std::vector<std::uint64_t> steps;
+    for (int xp : {1, 2, 4}) {
+        MlrtaSettings s;
+        s.initial_tile = 64;
+        s.min_tile = 16;  // tiles of 4x4 packets at least: every block is whole where the image allows
+        s.experimental.xp_packets = xp;
+        const Mlrta mlrta(tree, s);
+        std::vector<PacketHits16> hits(img.packets.size());
+        std::vector<std::uint32_t> occluded(img.packets.size(), 0xDEADBEEFu);
+        QueryCounters counters;
+        mlrta.intersect(img.grid, hits, QueryOptions{1, &counters});
+        mlrta.occluded(short_grid, occluded);
+        const std::string where = "xp " + std::to_string(xp);
+        EXPECT_TRUE(same_as_kd(tree, img, hits)) << where;
+        EXPECT_EQ(counters.packets, img.packets.size()) << where;
+        if (xp == 1) alone = occluded;
+        EXPECT_EQ(occluded, alone) << where;
+        steps.push_back(counters.packet_steps);
+    }
+    return steps;
+}
+
+TEST(MlrtaTileSplitter, PacketsTracedTogetherGiveTheSameAnswers) {
+    // In a room of boxes (large faces: the blocks' intervals stay tight) the inner-node steps per
+    // packet fall; in a soup of small triangles seen from outside they need not (the answers are
+    // the same either way).
+    // (pixels 0.002 apart: a block of 4x4 packets spans about 2 degrees, within interval traversal's
+    // limit of about 3)
+    const Image inside(room(),
+                       {{1.3f, 0.6f, 2.7f}, {0.3f, 1.0f, -0.35f}, {0.002f, -0.0006f, 0}, {0, 0.0007f, 0.002f}, 128, 96});
+    const std::vector<std::uint64_t> steps = trace_together(room(), inside);
+    EXPECT_LT(double(steps[1]), 0.8 * double(steps[0]));
+    EXPECT_LT(steps[2], steps[1]);
+    static const KdTree soup = KdTree::build(random_soup(20000, 54, 0.03f));
+    trace_together(soup, Image(soup, {{0.5f, 0.45f, 2.5f}, {0.02f, 0.03f, -1.0f}, {0.0035f, 0, 0}, {0, 0.0035f, 0}, 128, 120}));
+    MlrtaSettings bad;
+    bad.experimental.xp_packets = 3;
+    EXPECT_THROW(Mlrta(soup, bad), Error);
+}
+
 TEST(MlrtaTileSplitter, ZeroComponentsAndInactiveRaysEqualKdTree) {
     const KdTree& tree = room();
     Image img(tree, {{4.5f, 0.5f, 1.5f}, {0.0f, 1.0f, 0.0f}, {0.01f, 0, 0}, {0, 0, 0.01f}, 64, 64});
@@ -246,14 +295,19 @@ TEST(MlrtaTileSplitter, ZeroComponentsAndInactiveRaysEqualKdTree) {
         for (int i = 0; i < 16; ++i)
             if (!((packet.active >> i) & 1u)) img.want[p * 16 + std::size_t(i)] = Hit{};
     }
-    for (int threads : {1, 2}) {
-        const Mlrta mlrta(tree, MlrtaSettings{});
-        std::vector<PacketHits16> hits(img.packets.size());
-        QueryCounters counters;
-        mlrta.intersect(img.grid, hits, QueryOptions{threads, &counters});
-        EXPECT_TRUE(same_as_kd(tree, img, hits)) << "threads " << threads;
-        EXPECT_GT(counters.single_rays, 0u);
-    }
+    for (int xp : {1, 2, 4})  // packets alone, and blocks of packets traced together
+        for (int threads : {1, 2}) {
+            MlrtaSettings s;
+            s.experimental.xp_packets = xp;
+            s.min_tile = 4 * xp;
+            const Mlrta mlrta(tree, s);
+            std::vector<PacketHits16> hits(img.packets.size());
+            QueryCounters counters;
+            mlrta.intersect(img.grid, hits, QueryOptions{threads, &counters});
+            EXPECT_TRUE(same_as_kd(tree, img, hits)) << "threads " << threads << " xp " << xp;
+            EXPECT_GT(counters.single_rays, 0u);
+            EXPECT_EQ(counters.packets, img.packets.size());
+        }
 }
 
 // A camera looking along a diagonal: every ray has the same direction signs, but the dominant axis

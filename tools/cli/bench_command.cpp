@@ -77,6 +77,10 @@ std::function<void()> add_bench_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--mlrta-min-tile", args->mlrta.min_tile, "mlrta: minimum tile size in pixels (MTS)")
         ->capture_default_str();
+    cmd->add_option("--mlrta-xp-packets", args->mlrta.experimental.xp_packets,
+                    "mlrta: packets per side traced together by interval traversal, 1 (the paper's 4x4 packets), 2 "
+                    "or 4; pays with --mlrta-min-tile of at least 4 times as many pixels")
+        ->capture_default_str();
     cmd->add_option("--mlrta-frustum", args->mlrta_frustum, "mlrta: entry-point culling, inverse | direct")
         ->capture_default_str();
     cmd->add_option("--mlrta-ep-search", args->mlrta_ep_search,

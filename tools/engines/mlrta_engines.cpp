@@ -18,7 +18,8 @@ nlohmann::json mlrta_settings_json(const MlrtaSettings& s) {
             {"ep_triangles", x.ep_triangles},
             {"ep_resume", x.ep_resume},
             {"stuck_stop", x.stop_when_stuck},
-            {"stuck_retry", x.retry_stuck}};
+            {"stuck_retry", x.retry_stuck},
+            {"xp_packets", x.xp_packets}};
 }
 
 namespace {

@@ -3,6 +3,7 @@
 #include <cfloat>
 #include <cmath>
 
+#include "beamtrace/error.hpp"
 #include "common/interval.hpp"
 #include "common/ray_validity.hpp"
 #include "common/triangle_kernels.hpp"
@@ -67,16 +68,34 @@ TraversalStart root_start(const KdTree::Impl& kd) { return TraversalStart{NodeBo
 
 namespace {
 
-// Traces the lanes of `packet` selected by `mask` (one sign octant, no zero direction component)
-// from `start`; speed[i] is the length of lane i's direction. Closest hits go to `hits` lanes; for
-// occlusion, bits are or-ed into *occluded.
-template <bool kOcclusion, bool kCount>
-void interval_traversal(const PacketTraversalContext& c, const Packet16& packet, std::uint32_t mask,
-                        const TraversalStart& start, const float* speed, PacketHits16* hits, std::uint32_t* occluded,
-                        QueryCounters* counters) {
-    const KdTree::Impl& kd = c.kd;
-    const PacketKernels& packet_kernels = *c.tables.kernels;
-    PacketBounds pb;
+// One packet in an interval traversal: its lanes, their bounds, their set-up for the leaf tests,
+// how far they still look, and its mailbox. A traversal carries one (trace_packet) or several
+// (trace_packets_together), all of one sign octant.
+struct TracedPacket {
+    const Packet16* packet = nullptr;
+    PacketHits16* hits = nullptr;
+    std::uint32_t* occluded = nullptr;
+    const float* speed = nullptr;
+    PacketBounds pb;  // of this packet's lanes (test (2) at a leaf)
+    float reach = -kInfinity;  // the farthest distance along its line any active lane may still hit at
+    OneOriginFrustum frustum;
+    WatertightPacket16 wp;
+    LaneBoxRays box_rays;
+    std::uint32_t mailbox[kMailboxSize];
+};
+
+// The largest tfar * |dir| over the lanes, widened; how far the packet still looks.
+inline float farthest(const TracedPacket& t) {
+    const float d = farthest_distance(t.wp.tfar, t.speed, t.wp.active);
+    return d + std::fabs(d) * kRelativePad;
+}
+
+// The lanes `mask` of a packet (one sign octant, no zero direction component) cut to the start cell
+// and set up for the leaf tests. False when no lane meets the cell. The cell interval of its lanes
+// goes to entry.
+bool begin_packet(const PacketTraversalContext& c, const Packet16& packet, std::uint32_t mask, const Box& cell,
+                  const float* speed, TracedPacket& t, CellEntry& entry) {
+    PacketBounds& pb = t.pb;
     pb.pad = c.tables.pad;
     {
         const int first = __builtin_ctz(mask);
@@ -86,54 +105,117 @@ void interval_traversal(const PacketTraversalContext& c, const Packet16& packet,
     }
     // Cell decisions use each ray's distance along its line (t * |dir|), so that rays of one
     // direction but different parameter speeds (shadow rays of different lengths) share intervals;
-    // triangle tests keep each ray's own t. The lanes' cuts to the entry point's cell, all at once.
-    const CellEntry entry = enter_cell(packet, mask, speed, start.at.box, pb.pad);
-    mask = entry.lanes;
-    if (mask == 0) return;
+    // triangle tests keep each ray's own t. The lanes' cuts to the start cell, all at once.
+    entry = enter_cell(packet, mask, speed, cell, pb.pad);
+    if (entry.lanes == 0) return false;
     for (int k = 0; k < 3; ++k) {
         pb.org[k] = entry.org[k];
         pb.inv[k] = entry.inv[k];
     }
-    float c0, c1;
-    {
-        const Interval cell = widen({entry.c0, entry.c1}, pb.pad);
-        c0 = std::max(cell.lo, entry.near - std::fabs(entry.near) * kRelativePad);
-        c1 = cell.hi;
-    }
-    // The farthest distance along its line any active ray may still hit at (its tfar or closest hit).
-    // It only changes when a ray finds a hit (or, for occlusion, stops), so it is kept, not recomputed
-    // per cell.
-    auto farthest = [&](std::uint32_t lanes, const float* tfar) {
-        const float d = farthest_distance(tfar, speed, lanes);
-        return d + std::fabs(d) * kRelativePad;
-    };
+    t.packet = &packet;
+    t.speed = speed;
+    t.frustum = OneOriginFrustum{};
+    if (c.triangle_culling) t.frustum = make_one_origin_frustum(packet, entry.lanes);
+    t.wp = make_watertight_packet(packet);
+    t.wp.active = entry.lanes;
+    t.box_rays = make_lane_box_rays(packet, pb.pad);
+    for (std::uint32_t& b : t.mailbox) b = kNoHit;
+    t.reach = farthest(t);
+    return true;
+}
 
-    OneOriginFrustum frustum;
-    if (c.triangle_culling) frustum = make_one_origin_frustum(packet, mask);
-    WatertightPacket16 wp = make_watertight_packet(packet);
-    wp.active = mask;
-    const LaneBoxRays box_rays = make_lane_box_rays(packet, pb.pad);
+// A leaf (`index`, entered at distance c0) for one packet: test (2) of its geometry box against the
+// packet's bounds, the per-lane box test, frustum culling of its triangles, the 16-ray tests. Hits
+// and occlusion bits go to the packet's outputs and its reach shrinks as rays find hits; false when
+// the packet has no active lane left (occlusion).
+template <bool kOcclusion, bool kCount>
+bool visit_leaf(const PacketTraversalContext& c, std::uint32_t index, float c0, TracedPacket& t,
+                QueryCounters* counters) {
+    const KdTree::Impl& kd = c.kd;
+    const KdNode& node = kd.nodes[index];
+    const std::uint32_t count = node.triangle_count();
+    if (count == 0 || c0 > t.reach) return true;
+    // The leaf's geometry (its triangles clipped to its cell: tighter than the cell, and what
+    // a hit that matters lies in) against the packet's interval bounds (test (2)), then
+    // against each active ray's current segment.
+    const PacketKernels& packet_kernels = *c.tables.kernels;
+    const Box& box = c.tables.geometry_boxes[index];
+    if (packet_misses_box(t.pb, box, c0, t.reach) ||
+        packet_kernels.lane_box(t.box_rays, t.wp.tfar, t.wp.active, box) == 0)
+        return true;
     const TriangleKernels& kernels = *kd.kernels;
-    const KdNode* nodes = kd.nodes.data();
-    const std::uint32_t* ids = kd.triangle_ids.data();
-    const Triangle* tris = kd.leaf_triangles.data();
-    const CornerRows rows = c.tables.rows();
-    std::uint32_t mailbox[kMailboxSize];
-    for (std::uint32_t& b : mailbox) b = kNoHit;
+    const std::uint32_t* leaf = kd.triangle_ids.data() + node.offset();
+    const Triangle* corners = kd.leaf_triangles.data() + node.offset();
+    std::uint32_t culled = 0;  // bit j % 16: the packet's frustum misses leaf[j]
+    const bool cull = t.frustum.valid && count > kMinCulledLeaf;
+    for (std::uint32_t j = 0; j < count; ++j) {
+        if (cull && j % 16 == 0)  // the next 16 triangles decided at once (SIMD, from the corner rows)
+            culled = packet_kernels.frustum_cull(t.frustum, c.tables.rows(), node.offset() + j,
+                                                 int(std::min<std::uint32_t>(16, count - j)));
+        const std::uint32_t id = leaf[j];
+        std::uint32_t& slot = t.mailbox[id % kMailboxSize];
+        if (slot == id) continue;  // already tested for every lane: the result cannot change
+        slot = id;                 // a culled triangle stays culled: the frustum is the packet's
+        if (cull && ((culled >> (j % 16)) & 1u)) continue;
+        if constexpr (kCount) ++counters->triangle_tests;
+        LaneHits lanes;
+        kernels.packet_x1(t.wp, corners[j], lanes);
+        if constexpr (kOcclusion) {
+            if (lanes.mask) {
+                *t.occluded |= lanes.mask;
+                t.wp.active &= ~lanes.mask;
+                if (t.wp.active == 0) {
+                    t.reach = -kInfinity;
+                    return false;
+                }
+                t.reach = farthest(t);
+            }
+        } else {
+            bool nearer = false;
+            for (std::uint32_t b = lanes.mask; b; b &= b - 1) {
+                const int i = __builtin_ctz(b);
+                if (lanes.t[i] < t.hits->t[i]) {
+                    t.hits->t[i] = lanes.t[i];
+                    t.hits->triangle[i] = id;
+                    t.hits->u[i] = lanes.u[i];
+                    t.hits->v[i] = lanes.v[i];
+                    t.wp.tfar[i] = lanes.t[i];
+                    nearer = true;
+                }
+            }
+            if (nearer) t.reach = farthest(t);
+        }
+    }
+    return true;
+}
 
-    float reach = farthest(wp.active, wp.tfar);
+// Interval traversal of packets[0 .. n) (each begun by begin_packet, all of one sign octant) as one:
+// one interval [c0, c1] for all of them, bounded by the hull `pb` of their bounds and entered at
+// the hull [e0, e1] of their cells' cuts, one stack; at each leaf every packet that still looks
+// that far is tested by itself (visit_leaf).
+template <bool kOcclusion, bool kCount>
+void interval_traversal(const PacketTraversalContext& c, TracedPacket* packets, int n, const PacketBounds& pb,
+                        float e0, float e1, const TraversalStart& start, QueryCounters* counters) {
+    const KdNode* nodes = c.kd.nodes.data();
+    // Cells starting beyond the farthest any active ray still needs to look are skipped.
+    auto reach_of_all = [&] {
+        float r = -kInfinity;
+        for (int p = 0; p < n; ++p) r = std::max(r, packets[p].reach);
+        return r;
+    };
+    float reach = reach_of_all();
+    float c0 = e0, c1 = e1;
     StackEntry stack[kStackSize];
     int top = 0;
     std::uint32_t index = start.at.node;
     const TraversalResume* resume = start.resume;
     if (resume && resume->sign[0] == pb.sign[0] && resume->sign[1] == pb.sign[1] && resume->sign[2] == pb.sign[2]) {
         // Start at the resume leaf (for MLRTA: the entry-point search's first potential leaf): the
-        // cells before it in this depth-first order hold nothing for the packet. What is left after
+        // cells before it in this depth-first order hold nothing for the packets. What is left after
         // it is the other child of each bifurcation on its path, deepest on top, each with the
-        // packet's interval over its box (the faces of a cell are the start node's and the splits
+        // packets' interval over its box (the faces of a cell are the start node's and the splits
         // on its path, so this is the interval the walk would have reached it with, or tighter, and
-        // as conservative). A child whose interval is empty holds no ray of the packet.
-        const float e0 = c0, e1 = c1;
+        // as conservative). A child whose interval is empty holds no ray of the packets.
         auto interval = [&](const Box& b, float& a0, float& a1) {
             a0 = e0;
             a1 = e1;
@@ -172,60 +254,12 @@ void interval_traversal(const PacketTraversalContext& c, const Packet16& packet,
             }
             continue;
         }
-        // The leaf's geometry (its triangles clipped to its cell: tighter than the cell, and what
-        // a hit that matters lies in) against the packet's interval bounds (test (2)), then
-        // against each active ray's current segment.
-        const Box& box = c.tables.geometry_boxes[index];
-        const std::uint32_t count = node.triangle_count();
-        if (count > 0 && !packet_misses_box(pb, box, c0, reach) &&
-            packet_kernels.lane_box(box_rays, wp.tfar, wp.active, box) != 0) {
-            const std::uint32_t* leaf = ids + node.offset();
-            const Triangle* corners = tris + node.offset();
-            std::uint32_t culled = 0;  // bit j % 16: the packet's frustum misses leaf[j]
-            const bool cull = frustum.valid && count > kMinCulledLeaf;
-            for (std::uint32_t j = 0; j < count; ++j) {
-                if (cull && j % 16 == 0)  // the next 16 triangles decided at once (SIMD, from the corner rows)
-                    culled = packet_kernels.frustum_cull(frustum, rows, node.offset() + j,
-                                                         int(std::min<std::uint32_t>(16, count - j)));
-                const std::uint32_t id = leaf[j];
-                std::uint32_t& slot = mailbox[id % kMailboxSize];
-                if (slot == id) continue;  // already tested for every lane: the result cannot change
-                const Triangle& tri = corners[j];
-                if (cull) {
-                    if ((culled >> (j % 16)) & 1u) {
-                        slot = id;  // the frustum is the packet's: the triangle stays culled
-                        continue;
-                    }
-                }
-                slot = id;
-                if constexpr (kCount) ++counters->triangle_tests;
-                LaneHits lanes;
-                kernels.packet_x1(wp, tri, lanes);
-                if constexpr (kOcclusion) {
-                    if (lanes.mask) {
-                        *occluded |= lanes.mask;
-                        wp.active &= ~lanes.mask;
-                        if (wp.active == 0) return;
-                        reach = farthest(wp.active, wp.tfar);
-                    }
-                } else {
-                    bool nearer = false;
-                    for (std::uint32_t b = lanes.mask; b; b &= b - 1) {
-                        const int i = __builtin_ctz(b);
-                        if (lanes.t[i] < hits->t[i]) {
-                            hits->t[i] = lanes.t[i];
-                            hits->triangle[i] = id;
-                            hits->u[i] = lanes.u[i];
-                            hits->v[i] = lanes.v[i];
-                            wp.tfar[i] = lanes.t[i];
-                            nearer = true;
-                        }
-                    }
-                    if (nearer) reach = farthest(wp.active, wp.tfar);
-                }
-            }
+        if (node.triangle_count() > 0 && !(n > 1 && packet_misses_box(pb, c.tables.geometry_boxes[index], c0, reach))) {
+            bool any = false;
+            for (int p = 0; p < n; ++p) any |= visit_leaf<kOcclusion, kCount>(c, index, c0, packets[p], counters);
+            if (!any) return;  // occlusion: every ray of every packet stopped
+            reach = reach_of_all();
         }
-        // Cells starting beyond the farthest any active ray still needs to look are skipped.
         for (;;) {
             if (top == 0) return;
             const StackEntry& e = stack[--top];
@@ -236,6 +270,21 @@ void interval_traversal(const PacketTraversalContext& c, const Packet16& packet,
             break;
         }
     }
+}
+
+// The lanes of `packet` selected by `mask` (one sign octant, no zero direction component) from
+// `start`; speed[i] is the length of lane i's direction.
+template <bool kOcclusion, bool kCount>
+void trace_lanes(const PacketTraversalContext& c, const Packet16& packet, std::uint32_t mask, const TraversalStart& start,
+                 const float* speed, PacketHits16* hits, std::uint32_t* occluded, QueryCounters* counters) {
+    TracedPacket t;
+    CellEntry entry;
+    if (!begin_packet(c, packet, mask, start.at.box, speed, t, entry)) return;
+    t.hits = hits;
+    t.occluded = occluded;
+    const Interval cell = widen({entry.c0, entry.c1}, t.pb.pad);
+    const float c0 = std::max(cell.lo, entry.near - std::fabs(entry.near) * kRelativePad);
+    interval_traversal<kOcclusion, kCount>(c, &t, 1, t.pb, c0, cell.hi, start, counters);
 }
 
 // Whether the rays of a group are close enough to parallel for interval traversal: every component
@@ -302,12 +351,98 @@ void trace_packet(const PacketTraversalContext& c, const Packet16& packet, const
             together = !(origins.diagonal() > far_apart) && well_conditioned(g);
         }
         if (together) {
-            interval_traversal<kOcclusion, kCount>(c, packet, lanes, start, lanes_of.speed, hits, occluded, counters);
+            trace_lanes<kOcclusion, kCount>(c, packet, lanes, start, lanes_of.speed, hits, occluded, counters);
             continue;
         }
         for (std::uint32_t b = lanes; b; b &= b - 1)
             trace_single<kOcclusion, kCount>(c, packet, __builtin_ctz(b), hits, occluded, counters);
     }
+}
+
+template <bool kOcclusion, bool kCount>
+void trace_packets_together(const PacketTraversalContext& c, const Packet16* const* packets, int n,
+                            const TraversalStart& start, PacketHits16* const* hits, std::uint32_t* const* occluded,
+                            QueryCounters* counters) {
+    if (n < 1 || n > kMaxTogether) throw Error("trace_packets_together: between 1 and 16 packets");
+    // Together only when every packet's valid lanes, but for those with a zero direction component,
+    // share one sign octant; the group's origins and unit directions pass the same tests as a
+    // packet's group (trace_packet). Otherwise packet by packet.
+    PacketLanes lanes_of[kMaxTogether];
+    std::uint32_t coherent[kMaxTogether];
+    int octant = -1, rays = 0;
+    bool together = true;
+    GroupRanges all;
+    for (int p = 0; p < n && together; ++p) {
+        lanes_of[p] = packet_lanes(*packets[p]);
+        coherent[p] = lanes_of[p].valid & ~lanes_of[p].flat;
+        if (coherent[p] == 0) continue;
+        const PacketLanes& l = lanes_of[p];
+        const int i = __builtin_ctz(coherent[p]);
+        const int o = int(((l.negative[0] >> i) & 1u) | (((l.negative[1] >> i) & 1u) << 1) | (((l.negative[2] >> i) & 1u) << 2));
+        if (octant >= 0 && o != octant) together = false;
+        octant = o;
+        if (octant_lanes(l, coherent[p], o) != coherent[p]) together = false;
+        if (!together) break;
+        const GroupRanges g = group_ranges(*packets[p], l, coherent[p]);
+        if (rays == 0) {
+            all = g;
+        } else {
+            for (int k = 0; k < 3; ++k) {
+                all.org[k] = hull(all.org[k], g.org[k]);
+                all.unit[k] = hull(all.unit[k], g.unit[k]);
+            }
+        }
+        rays += __builtin_popcount(coherent[p]);
+    }
+    if (together && rays > 2) {
+        Box origins;
+        origins.lower = Float3{all.org[0].lo, all.org[1].lo, all.org[2].lo};
+        origins.upper = Float3{all.org[0].hi, all.org[1].hi, all.org[2].hi};
+        together = !(origins.diagonal() > 0.01f * c.kd.bounds.diagonal()) && well_conditioned(all);
+    } else {
+        together = false;
+    }
+    if (!together) {
+        for (int p = 0; p < n; ++p)
+            trace_packet<kOcclusion, kCount>(c, *packets[p], start, kOcclusion ? nullptr : hits[p],
+                                             kOcclusion ? occluded[p] : nullptr, counters);
+        return;
+    }
+    TracedPacket traced[kMaxTogether];
+    int m = 0;
+    PacketBounds pb;
+    float e0 = kInfinity, e1 = -kInfinity;
+    for (int p = 0; p < n; ++p) {
+        if constexpr (kCount) ++counters->packets;
+        if constexpr (!kOcclusion) {
+            for (int i = 0; i < 16; ++i) hits[p]->set_hit(i, Hit{});
+        } else {
+            // (hits may be null for occlusion)
+            *occluded[p] = 0;
+        }
+        for (std::uint32_t b = lanes_of[p].flat; b; b &= b - 1)
+            trace_single<kOcclusion, kCount>(c, *packets[p], __builtin_ctz(b), kOcclusion ? nullptr : hits[p],
+                                             kOcclusion ? occluded[p] : nullptr, counters);
+        if (coherent[p] == 0) continue;
+        TracedPacket& t = traced[m];
+        CellEntry entry;
+        if (!begin_packet(c, *packets[p], coherent[p], start.at.box, lanes_of[p].speed, t, entry)) continue;
+        t.hits = kOcclusion ? nullptr : hits[p];
+        t.occluded = kOcclusion ? occluded[p] : nullptr;
+        const Interval cell = widen({entry.c0, entry.c1}, t.pb.pad);
+        e0 = std::min(e0, std::max(cell.lo, entry.near - std::fabs(entry.near) * kRelativePad));
+        e1 = std::max(e1, cell.hi);
+        if (m == 0) {
+            pb = t.pb;
+        } else {
+            for (int k = 0; k < 3; ++k) {
+                pb.org[k] = hull(pb.org[k], t.pb.org[k]);
+                pb.inv[k] = hull(pb.inv[k], t.pb.inv[k]);
+            }
+        }
+        ++m;
+    }
+    if (m > 0) interval_traversal<kOcclusion, kCount>(c, traced, m, pb, e0, e1, start, counters);
 }
 
 #define BEAMTRACE_TRACE_PACKET(kOcclusion, kCount)                                                       \
@@ -319,5 +454,15 @@ BEAMTRACE_TRACE_PACKET(false, true)
 BEAMTRACE_TRACE_PACKET(true, false)
 BEAMTRACE_TRACE_PACKET(true, true)
 #undef BEAMTRACE_TRACE_PACKET
+
+#define BEAMTRACE_TRACE_TOGETHER(kOcclusion, kCount)                                                              \
+    template void trace_packets_together<kOcclusion, kCount>(const PacketTraversalContext&, const Packet16* const*, \
+                                                             int, const TraversalStart&, PacketHits16* const*,      \
+                                                             std::uint32_t* const*, QueryCounters*);
+BEAMTRACE_TRACE_TOGETHER(false, false)
+BEAMTRACE_TRACE_TOGETHER(false, true)
+BEAMTRACE_TRACE_TOGETHER(true, false)
+BEAMTRACE_TRACE_TOGETHER(true, true)
+#undef BEAMTRACE_TRACE_TOGETHER
 
 }  // namespace beamtrace::kdtree

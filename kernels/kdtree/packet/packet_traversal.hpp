@@ -66,4 +66,20 @@ template <bool kOcclusion, bool kCount>
 void trace_packet(const PacketTraversalContext& c, const Packet16& packet, const TraversalStart& start,
                   PacketHits16* hits, std::uint32_t* occluded, QueryCounters* counters);
 
+// At most this many packets traced as one.
+inline constexpr int kMaxTogether = 16;
+
+// Packets packets[0 .. n) (1 <= n <= kMaxTogether; neighbours of an image: a 2x2 block of 4x4
+// packets is 8x8 rays) from `start` by one interval traversal: one interval, one stack and one
+// inner-node step for all of them, each leaf tested packet by packet (its own bounds, per-lane box
+// test, frustum and triangle tests). Beyond the paper (docs/mlrta.md): the inner-node steps are
+// shared by n packets instead of one. Only when the packets' valid lanes (but for those with a zero
+// direction component, traced alone) share one sign octant and the whole group passes the tests of
+// trace_packet's groups (origins together, directions within about 3 degrees); otherwise packet
+// by packet with trace_packet. Outputs and counters as trace_packet's, per packet.
+template <bool kOcclusion, bool kCount>
+void trace_packets_together(const PacketTraversalContext& c, const Packet16* const* packets, int n,
+                            const TraversalStart& start, PacketHits16* const* hits, std::uint32_t* const* occluded,
+                            QueryCounters* counters);
+
 }  // namespace beamtrace::kdtree
