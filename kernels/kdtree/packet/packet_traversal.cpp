@@ -93,7 +93,7 @@ inline float farthest(const TracedPacket& t) {
 // The lanes `mask` of a packet (one sign octant, no zero direction component) cut to the start cell
 // and set up for the leaf tests. False when no lane meets the cell. The cell interval of its lanes
 // goes to entry.
-bool begin_packet(const PacketTraversalContext& c, const Packet16& packet, std::uint32_t mask, const Box& cell,
+[[gnu::always_inline]] inline bool begin_packet(const PacketTraversalContext& c, const Packet16& packet, std::uint32_t mask, const Box& cell,
                   const float* speed, TracedPacket& t, CellEntry& entry) {
     PacketBounds& pb = t.pb;
     pb.pad = c.tables.pad;
@@ -129,7 +129,7 @@ bool begin_packet(const PacketTraversalContext& c, const Packet16& packet, std::
 // and occlusion bits go to the packet's outputs and its reach shrinks as rays find hits; false when
 // the packet has no active lane left (occlusion).
 template <bool kOcclusion, bool kCount>
-bool visit_leaf(const PacketTraversalContext& c, std::uint32_t index, float c0, TracedPacket& t,
+[[gnu::always_inline]] inline bool visit_leaf(const PacketTraversalContext& c, std::uint32_t index, float c0, TracedPacket& t,
                 QueryCounters* counters) {
     const KdTree::Impl& kd = c.kd;
     const KdNode& node = kd.nodes[index];
