@@ -31,6 +31,7 @@ foreach(source
     kdtree/kd_queries.cpp
     kdtree/brute_force.cpp
     kdtree/packet/lane_box_test.cpp
+    kdtree/packet/packet_bounds.cpp
     kdtree/packet/one_origin_frustum.cpp
     kdtree/packet/packet_kernels.cpp
     kdtree/packet/packet_lanes.cpp
