@@ -6,6 +6,7 @@
 //   <scene>/mlrta_packet       the image by MLRTA (tiles, beams, entry points), per packet
 //   <scene>/mlrta_2x2_packet   the same with 2x2 packets traced together (xp_packets 2, MTS 8)
 //   <scene>/mlrta_4x4_packet   the same with 4x4 packets traced together (xp_packets 4, MTS 16)
+//   <scene>/mlrta_4x4_mts32_packet  the same with MTS 32 (tiles of at least 8x8 packets)
 //   <scene>/packet_setup       a packet's set-up for interval traversal: lanes (direction lengths,
 //                              octants), the per-lane box rays, the one-origin frustum, the
 //                              watertight packet
@@ -170,13 +171,14 @@ void bm_kd16_packet(benchmark::State& state, const std::string& name) {
     per(state, c.packets.size(), "packets");
 }
 
-// MLRTA with `side` x `side` packets traced together (1: the paper's settings, the default).
-void bm_mlrta_packet_side(benchmark::State& state, const std::string& name, int side) {
+// MLRTA with `side` x `side` packets traced together (1: the paper's settings, the default) and
+// tiles of at least `min_tile` pixels.
+void bm_mlrta_packet_side(benchmark::State& state, const std::string& name, int side, int min_tile) {
     Case& c = scene_case(name);
     if (!usable(state, c)) return;
     MlrtaSettings settings = c.mlrta->settings();
     settings.experimental.xp_packets = side;
-    settings.min_tile = std::max(settings.min_tile, 4 * side);
+    settings.min_tile = min_tile;
     const Mlrta mlrta(*c.tree, settings);
     const workload::RaySet& rays = c.work->rays;
     const PacketGrid grid{rays.packets.data(), rays.packets_x, rays.packets_y};
@@ -194,9 +196,14 @@ void bm_mlrta_packet_side(benchmark::State& state, const std::string& name, int 
     state.counters["tiles"] = double(counters.mlrta.tiles);
     per(state, rays.packets.size(), "packets of the grid");
 }
-void bm_mlrta_packet(benchmark::State& state, const std::string& name) { bm_mlrta_packet_side(state, name, 1); }
-void bm_mlrta_2x2_packet(benchmark::State& state, const std::string& name) { bm_mlrta_packet_side(state, name, 2); }
-void bm_mlrta_4x4_packet(benchmark::State& state, const std::string& name) { bm_mlrta_packet_side(state, name, 4); }
+void bm_mlrta_packet(benchmark::State& state, const std::string& name) {
+    bm_mlrta_packet_side(state, name, 1, MlrtaSettings{}.min_tile);
+}
+void bm_mlrta_2x2_packet(benchmark::State& state, const std::string& name) { bm_mlrta_packet_side(state, name, 2, 8); }
+void bm_mlrta_4x4_packet(benchmark::State& state, const std::string& name) { bm_mlrta_packet_side(state, name, 4, 16); }
+void bm_mlrta_4x4_mts32_packet(benchmark::State& state, const std::string& name) {
+    bm_mlrta_packet_side(state, name, 4, 32);
+}
 
 void bm_packet_setup(benchmark::State& state, const std::string& name) {
     Case& c = scene_case(name);
@@ -345,6 +352,7 @@ void register_all() {
         add("mlrta_packet", bm_mlrta_packet);
         add("mlrta_2x2_packet", bm_mlrta_2x2_packet);
         add("mlrta_4x4_packet", bm_mlrta_4x4_packet);
+        add("mlrta_4x4_mts32_packet", bm_mlrta_4x4_mts32_packet);
         add("packet_setup", bm_packet_setup);
         add("beam_of_packet", bm_beam_of_packet);
         add("ep_search", bm_ep_search);

@@ -9,9 +9,20 @@
 namespace beamtrace {
 
 WatertightPacket16 make_watertight_packet(const Packet16& p) {
+    WatertightPacket16 w;
+    make_watertight_packet(p, w);
+    return w;
+}
+
+void make_watertight_packet(const Packet16& p, WatertightPacket16& w) {
     using B = sse::Floats;
     constexpr int W = int(B::size);
-    WatertightPacket16 w;
+    w.same_axes = false;
+    w.same_origin = false;
+    w.axis[0] = 0;
+    w.axis[1] = 1;
+    w.axis[2] = 2;
+    w.first = 0;
     const B zero(0.0f), one(1.0f), two(2.0f);
     for (int base = 0; base < 16; base += W) {
         const sse::Mask on = sse::lanes_on(p.active >> base);
@@ -72,7 +83,6 @@ WatertightPacket16 make_watertight_packet(const Packet16& p) {
         w.same_axes = (axes & w.active) == w.active;
         w.same_origin = (origin & w.active) == w.active;
     }
-    return w;
 }
 
 }  // namespace beamtrace

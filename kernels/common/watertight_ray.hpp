@@ -95,5 +95,7 @@ inline WatertightPacket16 make_watertight_packet_reference(const Packet16& p) {
 
 // The same, bit for bit, four lanes at a time (SSE; kernels/common/watertight_packet.cpp).
 WatertightPacket16 make_watertight_packet(const Packet16& p);
+// The same, written into w (every field; no copy of the 768-byte result).
+void make_watertight_packet(const Packet16& p, WatertightPacket16& w);
 
 }  // namespace beamtrace

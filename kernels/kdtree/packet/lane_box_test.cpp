@@ -5,6 +5,11 @@ namespace beamtrace::kdtree {
 
 LaneBoxRays make_lane_box_rays(const Packet16& packet, float pad) {
     LaneBoxRays s;
+    make_lane_box_rays(packet, pad, s);
+    return s;
+}
+
+void make_lane_box_rays(const Packet16& packet, float pad, LaneBoxRays& s) {
     const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
     const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
     for (int k = 0; k < 3; ++k)
@@ -14,7 +19,6 @@ LaneBoxRays make_lane_box_rays(const Packet16& packet, float pad) {
         }
     for (int i = 0; i < 16; ++i) s.tnear[i] = packet.tnear[i];
     s.pad = pad;
-    return s;
 }
 
 std::uint32_t lanes_meeting_box(const LaneBoxRays& s, const float* tfar, std::uint32_t lanes, const Box& box) {

@@ -37,6 +37,7 @@ struct alignas(64) LaneBoxRays {
 };
 
 LaneBoxRays make_lane_box_rays(const Packet16& packet, float pad);
+void make_lane_box_rays(const Packet16& packet, float pad, LaneBoxRays& out);  // the same, in place
 
 // Bit i (of `lanes`) set when ray i's segment [tnear, tfar[i]] meets the box.
 std::uint32_t lanes_meeting_box(const LaneBoxRays& s, const float* tfar, std::uint32_t lanes, const Box& box);

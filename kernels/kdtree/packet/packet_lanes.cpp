@@ -36,6 +36,13 @@ float most(const B& v) {
 
 PacketLanes packet_lanes(const Packet16& p) {
     PacketLanes l;
+    packet_lanes(p, l);
+    return l;
+}
+
+void packet_lanes(const Packet16& p, PacketLanes& l) {
+    l.flat = 0;
+    for (std::uint32_t& n : l.negative) n = 0;
     l.valid = p.active & 0xFFFFu & segment_lanes(p);
     const B tiny(FLT_MIN);
     for (int base = 0; base < 16; base += W) {
@@ -54,7 +61,6 @@ PacketLanes packet_lanes(const Packet16& p) {
         l.negative[2] |= std::uint32_t(_mm_movemask_ps(dz)) << base;
     }
     l.flat &= l.valid;
-    return l;
 }
 
 Interval lane_range(const float* v, std::uint32_t lanes) {

@@ -18,6 +18,7 @@ struct alignas(64) PacketLanes {
     std::uint32_t negative[3] = {0, 0, 0};  // sign bit of dir_k, every lane
 };
 PacketLanes packet_lanes(const Packet16& p);
+void packet_lanes(const Packet16& p, PacketLanes& out);  // the same, in place
 
 // The lanes of `lanes` whose direction has the signs of octant o (bit k set: dir_k negative).
 inline std::uint32_t octant_lanes(const PacketLanes& l, std::uint32_t lanes, int o) {

@@ -87,9 +87,9 @@ inline float farthest(const TracedPacket& t) {
     t.speed = speed;
     t.frustum = OneOriginFrustum{};
     if (c.triangle_culling) t.frustum = make_one_origin_frustum(packet, entry.lanes);
-    t.wp = make_watertight_packet(packet);
+    make_watertight_packet(packet, t.wp);
     t.wp.active = entry.lanes;
-    t.box_rays = make_lane_box_rays(packet, pb.pad);
+    make_lane_box_rays(packet, pb.pad, t.box_rays);
     for (std::uint32_t& b : t.mailbox) b = kNoHit;
     t.reach = farthest(t);
     return true;
@@ -362,7 +362,7 @@ void trace_packets_together(const PacketTraversalContext& c, const Packet16* con
     bool together = true;
     GroupRanges all;
     for (int p = 0; p < n && together; ++p) {
-        lanes_of[p] = packet_lanes(*packets[p]);
+        packet_lanes(*packets[p], lanes_of[p]);
         coherent[p] = lanes_of[p].valid & ~lanes_of[p].flat;
         if (coherent[p] == 0) continue;
         const PacketLanes& l = lanes_of[p];
