@@ -1,6 +1,7 @@
 #include "mlrta/beam.hpp"
 
 #include <cmath>
+#include <span>
 
 #include "common/ray_validity.hpp"
 #include "simd/sse_lanes.hpp"
@@ -82,42 +83,71 @@ struct LaneRange {
 }  // namespace
 
 void Beam::add(const Packet16& packet) {
-    // Per-component ranges of the active rays (SSE, 4 lanes at a time), then the slopes by interval
-    // division: looser than per-ray slopes but a few operations per ray (this runs for every
-    // packet of every tile). Rays that describe no segment are traced by nobody and must not widen
-    // (or poison) the beam: they are masked out, like inactive lanes.
-    const std::uint32_t active = packet.active & 0xFFFFu & segment_lanes(packet);
-    if (active == 0) return;
-    const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
-    const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
-    const int lead = __builtin_ctz(active);
-    const int main_axis_of_packet = main_of(packet, active);
+    const Packet16* one = &packet;
+    add(std::span<const Packet16* const>(&one, 1));
+}
+
+void Beam::add(std::span<const Packet16* const> packets) {
+    // Per-component ranges of the active rays (SSE, 4 lanes at a time) over every packet, reduced
+    // once, then the slopes by interval division: looser than per-ray slopes but a few operations
+    // per ray (this runs for every packet of every tile). Rays that describe no segment are traced
+    // by nobody and must not widen (or poison) the beam: they are masked out, like inactive lanes.
+    // Lengths are measured along the main axis of the first ray (any axis on which every ray has a
+    // non-zero component will do; a ray with a zero one makes the beam incoherent).
     LaneRange d[3], s[3], len, near, far;
-    std::uint32_t negative[3] = {0, 0, 0}, zero = 0, same_origin = 0;
-    const Lanes lead_org[3] = {Lanes(org[0][lead]), Lanes(org[1][lead]), Lanes(org[2][lead])};
-    for (int base = 0; base < 16; base += kLanes) {
-        const LaneMask on = lanes_on((active >> base) & 0xFu);
-        const Lanes tnear = Lanes::load_unaligned(packet.tnear + base),
-                    tfar = Lanes::load_unaligned(packet.tfar + base);
-        LaneMask same = on;
-        for (int k = 0; k < 3; ++k) {
-            const Lanes v = Lanes::load_unaligned(dir[k] + base), o = Lanes::load_unaligned(org[k] + base);
-            zero |= bits_of(v == Lanes(0.0f)) << base;
-            negative[k] |= std::uint32_t(_mm_movemask_ps(v)) << base;  // sign bits
-            d[k].add(on, v);
-            s[k].add(on, o + v * tnear);
-            same = same & (o == lead_org[k]);
+    std::uint32_t negative[3] = {0, 0, 0};
+    bool zero = false, same_origin = true, any = false;
+    int main_axis_of_beam = 0;
+    Lanes lead_org[3];
+    Float3 first_origin;
+    std::uint32_t rays_added = 0;
+    for (const Packet16* packet_ptr : packets) {
+        const Packet16& packet = *packet_ptr;
+        const std::uint32_t active = packet.active & 0xFFFFu & segment_lanes(packet);
+        if (active == 0) continue;
+        const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
+        const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
+        if (!any) {
+            const int lead = __builtin_ctz(active);
+            main_axis_of_beam = main_of(packet, active);
+            first_origin = Float3{org[0][lead], org[1][lead], org[2][lead]};
+            for (int k = 0; k < 3; ++k) lead_org[k] = Lanes(org[k][lead]);
+            any = true;
         }
-        same_origin |= bits_of(same) << base;
-        const Lanes mag = xsimd::abs(Lanes::load_unaligned(dir[main_axis_of_packet] + base));
-        len.add(on, (tfar - tnear) * mag);
-        near.add(on, tnear * mag);
-        far.add(on, tfar * mag);
+        rays_added += std::uint32_t(__builtin_popcount(active));
+        std::uint32_t neg[3] = {0, 0, 0}, zeros = 0, same_bits = 0;
+        for (int base = 0; base < 16; base += kLanes) {
+            const LaneMask on = lanes_on((active >> base) & 0xFu);
+            const Lanes tnear = Lanes::load_unaligned(packet.tnear + base),
+                        tfar = Lanes::load_unaligned(packet.tfar + base);
+            LaneMask same = on;
+            for (int k = 0; k < 3; ++k) {
+                const Lanes v = Lanes::load_unaligned(dir[k] + base), o = Lanes::load_unaligned(org[k] + base);
+                zeros |= bits_of(v == Lanes(0.0f)) << base;
+                neg[k] |= std::uint32_t(_mm_movemask_ps(v)) << base;  // sign bits
+                d[k].add(on, v);
+                s[k].add(on, o + v * tnear);
+                same = same & (o == lead_org[k]);
+            }
+            same_bits |= bits_of(same) << base;
+            const Lanes mag = xsimd::abs(Lanes::load_unaligned(dir[main_axis_of_beam] + base));
+            len.add(on, (tfar - tnear) * mag);
+            near.add(on, tnear * mag);
+            far.add(on, tfar * mag);
+        }
+        zero = zero || (zeros & active) != 0;
+        same_origin = same_origin && (same_bits & active) == active;
+        for (int k = 0; k < 3; ++k) {
+            // One sign per axis: bit 0 some ray negative, bit 1 some positive (both: incoherent).
+            const std::uint32_t n = neg[k] & active;
+            negative[k] |= n == 0 ? 2u : (n == active ? 1u : 3u);
+        }
     }
+    if (!any) return;
     Beam b;
     b.empty = false;
-    b.rays = std::uint32_t(__builtin_popcount(active));
-    b.main_axis = main_axis_of_packet;
+    b.rays = rays_added;
+    b.main_axis = main_axis_of_beam;
     Interval start[3], dir_range[3];
     for (int k = 0; k < 3; ++k) {
         start[k] = s[k].interval();
@@ -126,16 +156,15 @@ void Beam::add(const Packet16& packet) {
     b.starts.lower = Float3{start[0].lo, start[1].lo, start[2].lo};
     b.starts.upper = Float3{start[0].hi, start[1].hi, start[2].hi};
     b.length = len.interval();
-    b.one_origin = (same_origin & active) == active;
-    b.origin = Float3{org[0][lead], org[1][lead], org[2][lead]};
+    b.one_origin = same_origin;
+    b.origin = first_origin;
     b.apex_near = near.interval();
     b.apex_far = far.interval();
     b.pad = pad;
-    b.coherent = (zero & active) == 0;
+    b.coherent = !zero;
     for (int k = 0; k < 3; ++k) {
-        const std::uint32_t neg = negative[k] & active;
-        if (neg != 0 && neg != active) b.coherent = false;
-        b.sign[k] = neg == active ? -1 : 1;
+        if (negative[k] == 3u) b.coherent = false;
+        b.sign[k] = negative[k] == 1u ? -1 : 1;
     }
     if (b.coherent) {
         for (int k = 0; k < 3; ++k) {

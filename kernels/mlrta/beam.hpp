@@ -6,6 +6,7 @@
 // their start points (org + tnear * dir), so beams with one origin (a camera, a point light) and with
 // many origins (reflections off a flat surface) work the same way.
 #include <cstdint>
+#include <span>
 
 #include "beamtrace/ray.hpp"
 #include "common/interval.hpp"
@@ -34,6 +35,9 @@ struct Beam {
     void add(const Ray& ray);
     // Adds the active rays of a packet (slopes from per-component ranges: a little looser, cheaper).
     void add(const Packet16& packet);
+    // Adds the active rays of several packets at once: their ranges reduced once, slopes from the
+    // ranges over all of them (looser than merging the packets' beams, and cheaper).
+    void add(std::span<const Packet16* const> packets);
     void merge(const Beam& other);
     // Sets the absolute padding from the size of the scene the beam is traced in.
     void set_scene_scale(const Box& scene_bounds);

@@ -22,9 +22,22 @@ TileTracer<kOcclusion, kCount>::TileTracer(const Mlrta::Impl& m, const PacketGri
       observer_(observer),
       reverse_(kOcclusion && reverse) {
     tile_side_ = std::max(1, m.settings.initial_tile / 4);
-    beams_.resize(std::size_t(tile_side_) * std::size_t(tile_side_));
+    // The smallest tile: sides divided by the parts per side until no larger than the minimum;
+    // cells only when every division is exact (then every tile of a whole initial tile is made of
+    // whole cells).
+    const int min_side = std::max(1, m.settings.min_tile / 4);
+    const int parts = m.settings.split_factor == 4 ? 2 : 4;
+    for (int side = tile_side_;; side /= parts) {
+        if (side <= min_side) {
+            cell_ = side;
+            break;
+        }
+        if (side % parts != 0) break;  // uneven parts: cells of one packet
+    }
+    cells_ = (tile_side_ + cell_ - 1) / cell_;
+    beams_.resize(std::size_t(cells_) * std::size_t(cells_));
     if (reverse_) {
-        reversed_.resize(beams_.size());
+        reversed_.resize(std::size_t(tile_side_) * std::size_t(tile_side_));
         tolerance_ = reversal_tolerance(m.kd().scene.bounds());
     }
     Beam scale;
@@ -33,8 +46,23 @@ TileTracer<kOcclusion, kCount>::TileTracer(const Mlrta::Impl& m, const PacketGri
 }
 
 template <bool kOcclusion, bool kCount>
-const Beam& TileTracer<kOcclusion, kCount>::packet_beam(int x, int y) const {
-    return beams_[std::size_t(y - tile_y0_) * std::size_t(tile_side_) + std::size_t(x - tile_x0_)];
+Beam TileTracer<kOcclusion, kCount>::tile_beam(int x0, int y0, int x1, int y1) const {
+    Beam beam;
+    beam.pad = pad_;
+    const int end_x = std::min(tile_x0_ + tile_side_, grid_.columns), end_y = std::min(tile_y0_ + tile_side_, grid_.rows);
+    auto aligned = [&](int a, int origin, int end) { return (a - origin) % cell_ == 0 || a == end; };
+    if (aligned(x0, tile_x0_, end_x) && aligned(x1, tile_x0_, end_x) && aligned(y0, tile_y0_, end_y) &&
+        aligned(y1, tile_y0_, end_y)) {
+        for (int cy = (y0 - tile_y0_) / cell_; cy * cell_ + tile_y0_ < y1; ++cy)
+            for (int cx = (x0 - tile_x0_) / cell_; cx * cell_ + tile_x0_ < x1; ++cx)
+                beam.merge(beams_[std::size_t(cy) * std::size_t(cells_) + std::size_t(cx)]);
+        return beam;
+    }
+    gathered_.clear();
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) gathered_.push_back(&packet(x, y));
+    beam.add(gathered_);
+    return beam;
 }
 
 template <bool kOcclusion, bool kCount>
@@ -48,16 +76,21 @@ void TileTracer<kOcclusion, kCount>::trace_initial_tile(int x0, int y0) {
     tile_x0_ = x0;
     tile_y0_ = y0;
     const int x1 = std::min(x0 + tile_side_, grid_.columns), y1 = std::min(y0 + tile_side_, grid_.rows);
-    for (int y = y0; y < y1; ++y)
-        for (int x = x0; x < x1; ++x) {
-            const std::size_t local = std::size_t(y - y0) * std::size_t(tile_side_) + std::size_t(x - x0);
-            if (reverse_)
+    if (reverse_)
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x)
                 reverse_for_occlusion(grid_.packets[std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x)],
-                                      tolerance_, reversed_[local]);
-            Beam& b = beams_[local];
+                                      tolerance_, reversed_[std::size_t(y - y0) * std::size_t(tile_side_) + std::size_t(x - x0)]);
+    for (int cy = 0; cy < cells_; ++cy)
+        for (int cx = 0; cx < cells_; ++cx) {
+            gathered_.clear();
+            for (int y = y0 + cy * cell_; y < std::min(y0 + (cy + 1) * cell_, y1); ++y)
+                for (int x = x0 + cx * cell_; x < std::min(x0 + (cx + 1) * cell_, x1); ++x)
+                    gathered_.push_back(&packet(x, y));
+            Beam& b = beams_[std::size_t(cy) * std::size_t(cells_) + std::size_t(cx)];
             b = Beam{};
             b.pad = pad_;
-            b.add(packet(x, y));
+            b.add(gathered_);
         }
     trace_tile(x0, y0, x1, y1, root_entry(m_), nullptr, false);
 }
@@ -65,10 +98,7 @@ void TileTracer<kOcclusion, kCount>::trace_initial_tile(int x0, int y0) {
 template <bool kOcclusion, bool kCount>
 void TileTracer<kOcclusion, kCount>::trace_tile(int x0, int y0, int x1, int y1, const EntryPoint& ep,
                                                 const SearchTrail* trail, bool parent_stuck) {
-    Beam beam;
-    beam.pad = pad_;
-    for (int y = y0; y < y1; ++y)
-        for (int x = x0; x < x1; ++x) beam.merge(packet_beam(x, y));
+    const Beam beam = tile_beam(x0, y0, x1, y1);
     if (beam.empty) {
         trace_packets(x0, y0, x1, y1, ep, false);  // no active ray: only clears the results
         return;

@@ -21,7 +21,8 @@ namespace beamtrace::mlrta {
 template <bool kOcclusion, bool kCount>
 class TileTracer {
 public:
-    // Per-packet beams are computed once per initial tile and merged for sub-tiles. With `reverse`
+    // Beams of cells (the smallest tiles the splitting can make: a packet with the paper's minimum tile)
+    // are computed once per initial tile and merged for sub-tiles. With `reverse`
     // (occlusion only), packets are traced reversed towards their light when the policy allows.
     TileTracer(const Mlrta::Impl& m, const PacketGrid& grid, PacketHits16* hits, std::uint32_t* occluded,
                QueryCounters* counters, const TileObserver* observer, bool reverse = false);
@@ -38,7 +39,9 @@ private:
                        const SearchTrail* trail = nullptr);
     // Occlusion: a triangle blocks every ray of the tile (the entry-point search proved it).
     void occlude_all(int x0, int y0, int x1, int y1);
-    const Beam& packet_beam(int x, int y) const;
+    // The beam of the tile's rays: merged from its cells' beams when the tile is made of whole
+    // cells, from its packets otherwise.
+    Beam tile_beam(int x0, int y0, int x1, int y1) const;
     // The packet (x, y) as traced: the grid's, or its reversed copy.
     const Packet16& packet(int x, int y) const;
 
@@ -52,7 +55,10 @@ private:
     double tolerance_ = 0.0;  // of the reversal policy
     int tile_x0_ = 0, tile_y0_ = 0, tile_side_ = 0;
     float pad_ = 0.0f;                // Beam::pad for the tree's scene (set_scene_scale, computed once)
-    std::vector<Beam> beams_;         // of the packets of the current initial tile
+    int cell_ = 1;                    // beams are kept per cell of cell_ x cell_ packets: no tile is smaller
+    int cells_ = 0;                   // cells per side of an initial tile
+    std::vector<Beam> beams_;         // of the cells of the current initial tile
+    mutable std::vector<const Packet16*> gathered_;  // packets of a cell or tile, for Beam::add
     std::vector<Packet16> reversed_;  // with reverse_: the current initial tile's packets as traced
 };
 
