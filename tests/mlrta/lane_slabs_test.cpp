@@ -2,6 +2,9 @@
 // reference's lanes, and no ray whose segment meets the box (exact double-precision test) is dropped.
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cmath>
+
 #include <vector>
 
 #include "hand_tree.hpp"
@@ -59,6 +62,28 @@ Case random_case(Rng& rng) {
 }
 
 }  // namespace
+
+TEST(MlrtaLaneSlabs, SetUpIsEachLanesCopyAndReciprocal) {
+    // make_lane_box_rays (SSE) against the lane-by-lane definition, bit for bit, zero and
+    // non-finite components included.
+    Rng rng(92);
+    for (int n = 0; n < 2000; ++n) {
+        Case c = random_case(rng);
+        float* dir[3] = {c.packet.dir_x, c.packet.dir_y, c.packet.dir_z};
+        if (n % 3 == 0) dir[n % 9 / 3][n % 16] = n % 2 ? 0.0f : -0.0f;
+        if (n % 7 == 0) dir[0][(n / 7) % 16] = n % 2 ? kInfinity : std::nanf("");
+        const LaneBoxRays s = make_lane_box_rays(c.packet, 1e-6f);
+        const float* org[3] = {c.packet.org_x, c.packet.org_y, c.packet.org_z};
+        for (int k = 0; k < 3; ++k)
+            for (int i = 0; i < 16; ++i) {
+                const float inv = 1.0f / dir[k][i];
+                ASSERT_EQ(std::bit_cast<std::uint32_t>(s.inv[k][i]), std::bit_cast<std::uint32_t>(inv)) << n;
+                ASSERT_EQ(std::bit_cast<std::uint32_t>(s.org[k][i]), std::bit_cast<std::uint32_t>(org[k][i])) << n;
+            }
+        for (int i = 0; i < 16; ++i) ASSERT_EQ(s.tnear[i], c.packet.tnear[i]) << n;
+        ASSERT_EQ(s.pad, 1e-6f);
+    }
+}
 
 TEST(MlrtaLaneSlabs, KernelsEqualTheReferenceAndDropNoRayThatMeetsTheBox) {
     Rng rng(91);
