@@ -55,9 +55,10 @@ struct MlrtaExperimental {
     // Interval traversal of a tile's packets in blocks of xp_packets x xp_packets 4x4 packets (1, 2
     // or 4: 16, 64 or 256 rays) that share one interval, one stack and every inner-node step, each
     // leaf still tested packet by packet. 1 is the paper's (4x4 packets). Beyond the paper
-    // (docs/mlrta.md, "Packets together"): tiles of one packet are traced alone, so it pays with a
-    // minimum tile of at least xp_packets packets (MlrtaSettings::min_tile >= 4 * xp_packets).
-    int xp_packets = 1;
+    // (docs/mlrta.md, "Packets traced together"): tiles of one packet are traced alone, so it pays
+    // with a minimum tile of at least xp_packets packets (MlrtaSettings::min_tile >= 4 *
+    // xp_packets; the default 16 with 4).
+    int xp_packets = 4;
 };
 
 }  // namespace beamtrace

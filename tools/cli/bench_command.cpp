@@ -79,7 +79,8 @@ std::function<void()> add_bench_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--mlrta-xp-packets", args->mlrta.experimental.xp_packets,
                     "mlrta: packets per side traced together by interval traversal, 1 (the paper's 4x4 packets), 2 "
-                    "or 4; pays with --mlrta-min-tile of at least 4 times as many pixels")
+                    "or 4; pays with --mlrta-min-tile of at least 4 times as many pixels (the paper: "
+                    "--mlrta-xp-packets 1 --mlrta-min-tile 4)")
         ->capture_default_str();
     cmd->add_option("--mlrta-frustum", args->mlrta_frustum, "mlrta: entry-point culling, inverse | direct")
         ->capture_default_str();

@@ -39,7 +39,8 @@ std::string mlrta_settings(const MlrtaSettings& m) {
            " ep-triangles=" + (m.experimental.ep_triangles ? "on" : "off") +
            " stuck-stop=" + (m.experimental.stop_when_stuck ? "on" : "off") +
            " stuck-retry=" + (m.experimental.retry_stuck ? "on" : "off") +
-           " ep-resume=" + (m.experimental.ep_resume ? "on" : "off");
+           " ep-resume=" + (m.experimental.ep_resume ? "on" : "off") +
+           " xp-packets=" + std::to_string(m.experimental.xp_packets);
 }
 
 // A named variant of the default settings S: change(s) applied to S{}.
@@ -81,7 +82,11 @@ std::vector<std::pair<std::string, MlrtaSettings>> mlrta_variants(bool image) {
     add_variant(v, " direct", [](M& m) { m.experimental.frustum_test = FrustumTest::direct; });
     add_variant(v, " tile 32", [](M& m) { m.initial_tile = 32; });
     add_variant(v, " split 4", [](M& m) { m.split_factor = 4; });
-    add_variant(v, " min 16", [](M& m) { m.min_tile = 16; });
+    add_variant(v, " paper packets", [](M& m) {
+        m.experimental.xp_packets = 1;
+        m.min_tile = 4;
+    });
+    add_variant(v, " min 32", [](M& m) { m.min_tile = 32; });
     return v;
 }
 

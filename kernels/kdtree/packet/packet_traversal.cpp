@@ -105,7 +105,7 @@ template <bool kOcclusion, bool kCount>
     const KdTree::Impl& kd = c.kd;
     const KdNode& node = kd.nodes[index];
     const std::uint32_t count = node.triangle_count();
-    if (count == 0 || c0 > t.reach) return true;
+    if (count == 0) return true;
     // The leaf's geometry (its triangles clipped to its cell: tighter than the cell, and what
     // a hit that matters lies in) against the packet's interval bounds (test (2)), then
     // against each active ray's current segment.
