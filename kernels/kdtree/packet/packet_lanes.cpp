@@ -20,16 +20,15 @@ constexpr int W = int(B::size);
 B smin(const B& x, const B& y) { return xsimd::select(y < x, y, x); }
 B smax(const B& x, const B& y) { return xsimd::select(x < y, y, x); }
 
-// Horizontal minimum / maximum of the four lanes.
+// Horizontal minimum / maximum of the four lanes, in registers: min(min(a0, a1), min(a2, a3)) with
+// std::min's rule for each pair (smin / smax), so the result is the scalar fold's, bit for bit.
 float least(const B& v) {
-    alignas(16) float a[W];
-    v.store_aligned(a);
-    return std::min(std::min(a[0], a[1]), std::min(a[2], a[3]));
+    const B pairs = smin(v, B(_mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1))));
+    return _mm_cvtss_f32(smin(pairs, B(_mm_shuffle_ps(pairs, pairs, _MM_SHUFFLE(1, 0, 3, 2)))));
 }
 float most(const B& v) {
-    alignas(16) float a[W];
-    v.store_aligned(a);
-    return std::max(std::max(a[0], a[1]), std::max(a[2], a[3]));
+    const B pairs = smax(v, B(_mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1))));
+    return _mm_cvtss_f32(smax(pairs, B(_mm_shuffle_ps(pairs, pairs, _MM_SHUFFLE(1, 0, 3, 2)))));
 }
 
 }  // namespace
