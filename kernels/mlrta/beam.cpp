@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <span>
+#include <type_traits>
 
 #include "common/ray_validity.hpp"
 #include "simd/sse_lanes.hpp"
@@ -70,6 +71,10 @@ struct LaneRange {
         lo = xsimd::min(lo, xsimd::select(on, v, Lanes(kInfinity)));
         hi = xsimd::max(hi, xsimd::select(on, v, Lanes(-kInfinity)));
     }
+    void add(const Lanes& v) {  // every lane on: the same values without the selects
+        lo = xsimd::min(lo, v);
+        hi = xsimd::max(hi, v);
+    }
     Interval interval() const {
         alignas(16) float l[kLanes], h[kLanes];
         lo.store_aligned(l);
@@ -116,8 +121,15 @@ void Beam::add(std::span<const Packet16* const> packets) {
         }
         rays_added += std::uint32_t(__builtin_popcount(active));
         std::uint32_t neg[3] = {0, 0, 0}, zeros = 0, same_bits = 0;
-        for (int base = 0; base < 16; base += kLanes) {
+        // Four lanes at a time; groups with every lane on skip the masking (the same values).
+        auto four_lanes = [&](int base, auto all_on) {
             const LaneMask on = lanes_on((active >> base) & 0xFu);
+            auto add = [&](LaneRange& r, const Lanes& v) {
+                if constexpr (decltype(all_on)::value)
+                    r.add(v);
+                else
+                    r.add(on, v);
+            };
             const Lanes tnear = Lanes::load_unaligned(packet.tnear + base),
                         tfar = Lanes::load_unaligned(packet.tfar + base);
             LaneMask same = on;
@@ -125,15 +137,22 @@ void Beam::add(std::span<const Packet16* const> packets) {
                 const Lanes v = Lanes::load_unaligned(dir[k] + base), o = Lanes::load_unaligned(org[k] + base);
                 zeros |= bits_of(v == Lanes(0.0f)) << base;
                 neg[k] |= std::uint32_t(_mm_movemask_ps(v)) << base;  // sign bits
-                d[k].add(on, v);
-                s[k].add(on, o + v * tnear);
+                add(d[k], v);
+                add(s[k], o + v * tnear);
                 same = same & (o == lead_org[k]);
             }
             same_bits |= bits_of(same) << base;
             const Lanes mag = xsimd::abs(Lanes::load_unaligned(dir[main_axis_of_beam] + base));
-            len.add(on, (tfar - tnear) * mag);
-            near.add(on, tnear * mag);
-            far.add(on, tfar * mag);
+            add(len, (tfar - tnear) * mag);
+            add(near, tnear * mag);
+            add(far, tfar * mag);
+        };
+        for (int base = 0; base < 16; base += kLanes) {
+            const std::uint32_t four = (active >> base) & 0xFu;
+            if (four == 0xFu)
+                four_lanes(base, std::true_type{});
+            else if (four != 0)  // (no lane on: nothing to add)
+                four_lanes(base, std::false_type{});
         }
         zero = zero || (zeros & active) != 0;
         same_origin = same_origin && (same_bits & active) == active;

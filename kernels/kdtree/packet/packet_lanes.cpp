@@ -122,6 +122,7 @@ CellEntry enter_cell(const Packet16& p, std::uint32_t lanes, const float* speed,
     for (int base = 0; base < 16; base += W) {
         if (((lanes >> base) & 0xFu) == 0) continue;
         const Mask on = lanes_on(lanes >> base);
+        const bool all_on = ((lanes >> base) & 0xFu) == 0xFu;
         const B s = B::load_aligned(speed + base);
         const B tnear = B::load_unaligned(p.tnear + base) * s;
         B enter = tnear, exit = B::load_unaligned(p.tfar + base) * s;
@@ -132,10 +133,17 @@ CellEntry enter_cell(const Packet16& p, std::uint32_t lanes, const float* speed,
             const auto swap = a > b;
             enter = smax(enter, xsimd::select(swap, b, a));
             exit = smin(exit, xsimd::select(swap, a, b));
-            org_lo[k] = smin(org_lo[k], xsimd::select(on, o, B(kInfinity)));
-            org_hi[k] = smax(org_hi[k], xsimd::select(on, o, B(-kInfinity)));
-            inv_lo[k] = smin(inv_lo[k], xsimd::select(on, inv, B(kInfinity)));
-            inv_hi[k] = smax(inv_hi[k], xsimd::select(on, inv, B(-kInfinity)));
+            if (all_on) {  // the same values without the selects
+                org_lo[k] = smin(org_lo[k], o);
+                org_hi[k] = smax(org_hi[k], o);
+                inv_lo[k] = smin(inv_lo[k], inv);
+                inv_hi[k] = smax(inv_hi[k], inv);
+            } else {
+                org_lo[k] = smin(org_lo[k], xsimd::select(on, o, B(kInfinity)));
+                org_hi[k] = smax(org_hi[k], xsimd::select(on, o, B(-kInfinity)));
+                inv_lo[k] = smin(inv_lo[k], xsimd::select(on, inv, B(kInfinity)));
+                inv_hi[k] = smax(inv_hi[k], xsimd::select(on, inv, B(-kInfinity)));
+            }
         }
         // Rounding of enter / exit is covered by widening the packet's interval afterwards.
         const B slack = (xsimd::abs(enter) + xsimd::abs(exit)) * rel + pad_b;
