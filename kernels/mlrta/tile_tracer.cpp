@@ -3,8 +3,8 @@
 #include <algorithm>
 
 #include "common/ray_validity.hpp"
-#include "mlrta/entry_point_search.hpp"
 #include "kdtree/packet/packet_traversal.hpp"
+#include "mlrta/entry_point_search.hpp"
 #include "mlrta/entry_point_trace.hpp"
 #include "mlrta/shadow_reversal.hpp"
 
