@@ -2,7 +2,8 @@
 // The tile tracer: adaptive tile splitting (MLRTA section 4.2) and the tracing of the tiles' packets.
 // A tile of packets becomes a beam; its entry point is searched from its parent's; it is split into
 // SF sub-tiles until its entry point is a leaf or it is no larger than the minimum tile size, then
-// its packets are traced by interval traversal from that entry point. Tiles whose rays diverge in
+// its packets are traced by interval traversal from that entry point, in blocks of xp_packets x
+// xp_packets packets traced together (kdtree::trace_packets_together). Tiles whose rays diverge in
 // sign go straight to XP search from the parent's entry point (for their coherent sub-groups) once
 // they reach the minimum size; larger diverging tiles are split first (their parts may be coherent:
 // shadow beams from a light often are). Occlusion tiles can be traced from their light: each
