@@ -307,22 +307,36 @@ void trace_single(const PacketTraversalContext& c, const Packet16& packet, int i
 
 }  // namespace
 
+namespace {
+
+// A packet's outputs cleared (no hit, nothing occluded), and the packet counted.
 template <bool kOcclusion, bool kCount>
-void trace_packet(const PacketTraversalContext& c, const Packet16& packet, const TraversalStart& start,
-                  PacketHits16* hits, std::uint32_t* occluded, QueryCounters* counters) {
+void clear_packet(PacketHits16* hits, std::uint32_t* occluded, QueryCounters* counters) {
     if constexpr (!kOcclusion) {
         for (int i = 0; i < 16; ++i) hits->set_hit(i, Hit{});
     } else {
         *occluded = 0;
     }
     if constexpr (kCount) ++counters->packets;
-    if (packet.active == 0) return;
-    // Direction lengths, unit directions and lane classes of all lanes at once (SSE).
-    const PacketLanes lanes_of = packet_lanes(packet);
-    // Rays that describe no segment (NaN, infinities, a zero direction, tnear > tfar) report nothing;
-    // zero (or denormal) components have no usable reciprocal: such rays go alone.
+}
+
+// The lanes with a zero (or denormal) direction component, which have no usable reciprocal, one by one.
+template <bool kOcclusion, bool kCount>
+void trace_flat_lanes(const PacketTraversalContext& c, const Packet16& packet, const PacketLanes& lanes_of,
+                      PacketHits16* hits, std::uint32_t* occluded, QueryCounters* counters) {
     for (std::uint32_t b = lanes_of.flat; b; b &= b - 1)
         trace_single<kOcclusion, kCount>(c, packet, __builtin_ctz(b), hits, occluded, counters);
+}
+
+// trace_packet once the packet's lanes are known (lanes_of = packet_lanes(packet)) and its outputs
+// cleared.
+template <bool kOcclusion, bool kCount>
+void trace_packet_lanes(const PacketTraversalContext& c, const Packet16& packet, const PacketLanes& lanes_of,
+                        const TraversalStart& start, PacketHits16* hits, std::uint32_t* occluded,
+                        QueryCounters* counters) {
+    // Rays that describe no segment (NaN, infinities, a zero direction, tnear > tfar) report nothing;
+    // zero (or denormal) components have no usable reciprocal: such rays go alone.
+    trace_flat_lanes<kOcclusion, kCount>(c, packet, lanes_of, hits, occluded, counters);
     const std::uint32_t coherent = lanes_of.valid & ~lanes_of.flat;
     // Interval traversal pays when the rays of a group travel together. Groups of one or two rays,
     // groups whose origins lie far apart and groups of diverging or nearly plane-parallel directions
@@ -348,30 +362,45 @@ void trace_packet(const PacketTraversalContext& c, const Packet16& packet, const
     }
 }
 
+}  // namespace
+
+template <bool kOcclusion, bool kCount>
+void trace_packet(const PacketTraversalContext& c, const Packet16& packet, const TraversalStart& start,
+                  PacketHits16* hits, std::uint32_t* occluded, QueryCounters* counters) {
+    clear_packet<kOcclusion, kCount>(hits, occluded, counters);
+    if (packet.active == 0) return;
+    // Direction lengths, unit directions and lane classes of all lanes at once (SSE).
+    const PacketLanes lanes_of = packet_lanes(packet);
+    trace_packet_lanes<kOcclusion, kCount>(c, packet, lanes_of, start, hits, occluded, counters);
+}
+
 template <bool kOcclusion, bool kCount>
 void trace_packets_together(const PacketTraversalContext& c, const Packet16* const* packets, int n,
                             const TraversalStart& start, PacketHits16* const* hits, std::uint32_t* const* occluded,
                             QueryCounters* counters) {
     if (n < 1 || n > kMaxTogether) throw Error("trace_packets_together: between 1 and 16 packets");
+    auto hits_of = [&](int p) { return kOcclusion ? nullptr : hits[p]; };
+    auto occluded_of = [&](int p) { return kOcclusion ? occluded[p] : nullptr; };
     // Together only when every packet's valid lanes, but for those with a zero direction component,
     // share one sign octant; the group's origins and unit directions pass the same tests as a
-    // packet's group (trace_packet). Otherwise packet by packet.
+    // packet's group (trace_packet). Otherwise packet by packet, with the lanes found here.
     PacketLanes lanes_of[kMaxTogether];
     std::uint32_t coherent[kMaxTogether];
     int octant = -1, rays = 0;
     bool together = true;
     GroupRanges all;
-    for (int p = 0; p < n && together; ++p) {
+    for (int p = 0; p < n; ++p) {
         packet_lanes(*packets[p], lanes_of[p]);
         coherent[p] = lanes_of[p].valid & ~lanes_of[p].flat;
-        if (coherent[p] == 0) continue;
+        if (coherent[p] == 0 || !together) continue;
         const PacketLanes& l = lanes_of[p];
         const int i = __builtin_ctz(coherent[p]);
         const int o = int(((l.negative[0] >> i) & 1u) | (((l.negative[1] >> i) & 1u) << 1) | (((l.negative[2] >> i) & 1u) << 2));
-        if (octant >= 0 && o != octant) together = false;
+        if ((octant >= 0 && o != octant) || octant_lanes(l, coherent[p], o) != coherent[p]) {
+            together = false;
+            continue;
+        }
         octant = o;
-        if (octant_lanes(l, coherent[p], o) != coherent[p]) together = false;
-        if (!together) break;
         const GroupRanges g = group_ranges(*packets[p], l, coherent[p]);
         if (rays == 0) {
             all = g;
@@ -392,9 +421,11 @@ void trace_packets_together(const PacketTraversalContext& c, const Packet16* con
         together = false;
     }
     if (!together) {
-        for (int p = 0; p < n; ++p)
-            trace_packet<kOcclusion, kCount>(c, *packets[p], start, kOcclusion ? nullptr : hits[p],
-                                             kOcclusion ? occluded[p] : nullptr, counters);
+        for (int p = 0; p < n; ++p) {
+            clear_packet<kOcclusion, kCount>(hits_of(p), occluded_of(p), counters);
+            trace_packet_lanes<kOcclusion, kCount>(c, *packets[p], lanes_of[p], start, hits_of(p), occluded_of(p),
+                                                   counters);
+        }
         return;
     }
     TracedPacket traced[kMaxTogether];
@@ -402,22 +433,14 @@ void trace_packets_together(const PacketTraversalContext& c, const Packet16* con
     PacketBounds pb;
     float e0 = kInfinity, e1 = -kInfinity;
     for (int p = 0; p < n; ++p) {
-        if constexpr (kCount) ++counters->packets;
-        if constexpr (!kOcclusion) {
-            for (int i = 0; i < 16; ++i) hits[p]->set_hit(i, Hit{});
-        } else {
-            // (hits may be null for occlusion)
-            *occluded[p] = 0;
-        }
-        for (std::uint32_t b = lanes_of[p].flat; b; b &= b - 1)
-            trace_single<kOcclusion, kCount>(c, *packets[p], __builtin_ctz(b), kOcclusion ? nullptr : hits[p],
-                                             kOcclusion ? occluded[p] : nullptr, counters);
+        clear_packet<kOcclusion, kCount>(hits_of(p), occluded_of(p), counters);
+        trace_flat_lanes<kOcclusion, kCount>(c, *packets[p], lanes_of[p], hits_of(p), occluded_of(p), counters);
         if (coherent[p] == 0) continue;
         TracedPacket& t = traced[m];
         CellEntry entry;
         if (!begin_packet(c, *packets[p], coherent[p], start.at.box, lanes_of[p].speed, t, entry)) continue;
-        t.hits = kOcclusion ? nullptr : hits[p];
-        t.occluded = kOcclusion ? occluded[p] : nullptr;
+        t.hits = hits_of(p);
+        t.occluded = occluded_of(p);
         const Interval cell = widen({entry.c0, entry.c1}, t.pb.pad);
         e0 = std::min(e0, std::max(cell.lo, entry.near - std::fabs(entry.near) * kRelativePad));
         e1 = std::max(e1, cell.hi);
