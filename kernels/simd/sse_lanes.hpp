@@ -18,4 +18,20 @@ inline Mask lanes_on(std::uint32_t four_bits) {
 
 inline std::uint32_t bits_of(const Mask& m) { return std::uint32_t(_mm_movemask_ps(m)); }
 
+// std::min and std::max lane by lane: (y < x) ? y : x and (x < y) ? y : x, so that NaN operands and
+// signed zeros come out as the scalar code's (the SIMD forms of scalar references stay bit for bit).
+inline Floats min_as_std(const Floats& x, const Floats& y) { return xsimd::select(y < x, y, x); }
+inline Floats max_as_std(const Floats& x, const Floats& y) { return xsimd::select(x < y, y, x); }
+
+// Horizontal minimum / maximum of the four lanes, in registers: min(min(a0, a1), min(a2, a3)) with
+// std::min's rule for each pair, so the result is that scalar fold's, bit for bit.
+inline float least(const Floats& v) {
+    const Floats pairs = min_as_std(v, Floats(_mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1))));
+    return _mm_cvtss_f32(min_as_std(pairs, Floats(_mm_shuffle_ps(pairs, pairs, _MM_SHUFFLE(1, 0, 3, 2)))));
+}
+inline float most(const Floats& v) {
+    const Floats pairs = max_as_std(v, Floats(_mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1))));
+    return _mm_cvtss_f32(max_as_std(pairs, Floats(_mm_shuffle_ps(pairs, pairs, _MM_SHUFFLE(1, 0, 3, 2)))));
+}
+
 }  // namespace beamtrace::sse

@@ -10,9 +10,8 @@ using B = sse::Floats;
 using Mask = sse::Mask;
 constexpr int W = int(B::size);
 
-// std::min and std::max lane by lane, NaN operands treated as Interval's operator* treats them.
-B smin(const B& x, const B& y) { return xsimd::select(y < x, y, x); }
-B smax(const B& x, const B& y) { return xsimd::select(x < y, y, x); }
+using sse::max_as_std;  // std::min and std::max lane by lane, as Interval's operator* takes them
+using sse::min_as_std;
 
 // widen() lane by lane: lo - (|lo| R + pad), hi + (|hi| R + pad).
 void widen(B& lo, B& hi, const B& rel, const B& pad) {
@@ -48,8 +47,8 @@ std::uint32_t BlockBounds::meeting(const Box& box, float t0) const {
                 B a = B(faces[f]) - ohi, b = B(faces[f]) - olo;
                 widen(a, b, rel, pad_b);
                 const B p0 = a * ilo, p1 = a * ihi, p2 = b * ilo, p3 = b * ihi;
-                lo[f] = smin(smin(p0, p1), smin(p2, p3));
-                hi[f] = smax(smax(p0, p1), smax(p2, p3));
+                lo[f] = min_as_std(min_as_std(p0, p1), min_as_std(p2, p3));
+                hi[f] = max_as_std(max_as_std(p0, p1), max_as_std(p2, p3));
                 widen(lo[f], hi[f], rel, pad_b);
             }
             entry_lo[k] = lo[0];

@@ -15,21 +15,10 @@ using sse::bits_of;
 using sse::lanes_on;
 constexpr int W = int(B::size);
 
-// std::min and std::max lane by lane: (y < x) ? y : x and (x < y) ? y : x, so that a NaN operand
-// is ignored where the lane-by-lane code ignored it (a product 0 * inf of a huge reciprocal).
-B smin(const B& x, const B& y) { return xsimd::select(y < x, y, x); }
-B smax(const B& x, const B& y) { return xsimd::select(x < y, y, x); }
-
-// Horizontal minimum / maximum of the four lanes, in registers: min(min(a0, a1), min(a2, a3)) with
-// std::min's rule for each pair (smin / smax), so the result is the scalar fold's, bit for bit.
-float least(const B& v) {
-    const B pairs = smin(v, B(_mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1))));
-    return _mm_cvtss_f32(smin(pairs, B(_mm_shuffle_ps(pairs, pairs, _MM_SHUFFLE(1, 0, 3, 2)))));
-}
-float most(const B& v) {
-    const B pairs = smax(v, B(_mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1))));
-    return _mm_cvtss_f32(smax(pairs, B(_mm_shuffle_ps(pairs, pairs, _MM_SHUFFLE(1, 0, 3, 2)))));
-}
+using sse::max_as_std;  // std::min / std::max lane by lane, and across the lanes
+using sse::min_as_std;
+using sse::least;
+using sse::most;
 
 }  // namespace
 
@@ -68,8 +57,8 @@ Interval lane_range(const float* v, std::uint32_t lanes) {
         if (((lanes >> base) & 0xFu) == 0) continue;
         const Mask on = lanes_on(lanes >> base);
         const B x = B::load_unaligned(v + base);
-        lo = smin(lo, xsimd::select(on, x, B(kInfinity)));
-        hi = smax(hi, xsimd::select(on, x, B(-kInfinity)));
+        lo = min_as_std(lo, xsimd::select(on, x, B(kInfinity)));
+        hi = max_as_std(hi, xsimd::select(on, x, B(-kInfinity)));
     }
     return {least(lo), most(hi)};
 }
@@ -86,8 +75,8 @@ GroupRanges group_ranges(const Packet16& p, const PacketLanes& l, std::uint32_t 
         const Mask on = lanes_on(lanes >> base);
         for (int k = 0; k < 6; ++k) {
             const B x = k < 3 ? B::load_unaligned(org[k] + base) : B::load_aligned(l.unit[k - 3] + base);
-            lo[k] = smin(lo[k], xsimd::select(on, x, B(kInfinity)));
-            hi[k] = smax(hi[k], xsimd::select(on, x, B(-kInfinity)));
+            lo[k] = min_as_std(lo[k], xsimd::select(on, x, B(kInfinity)));
+            hi[k] = max_as_std(hi[k], xsimd::select(on, x, B(-kInfinity)));
         }
     }
     GroupRanges g;
@@ -103,7 +92,7 @@ float farthest_distance(const float* tfar, const float* speed, std::uint32_t lan
     for (int base = 0; base < 16; base += W) {
         if (((lanes >> base) & 0xFu) == 0) continue;
         const B d = B::load_unaligned(tfar + base) * B::load_unaligned(speed + base);
-        far = smax(far, xsimd::select(lanes_on(lanes >> base), d, B(-kInfinity)));
+        far = max_as_std(far, xsimd::select(lanes_on(lanes >> base), d, B(-kInfinity)));
     }
     return most(far);
 }
@@ -131,27 +120,27 @@ CellEntry enter_cell(const Packet16& p, std::uint32_t lanes, const float* speed,
             const B inv = s / B::load_unaligned(dir[k] + base);  // reciprocal of the unit direction's component
             const B a = (B(box.lower[k]) - o) * inv, b = (B(box.upper[k]) - o) * inv;
             const auto swap = a > b;
-            enter = smax(enter, xsimd::select(swap, b, a));
-            exit = smin(exit, xsimd::select(swap, a, b));
+            enter = max_as_std(enter, xsimd::select(swap, b, a));
+            exit = min_as_std(exit, xsimd::select(swap, a, b));
             if (all_on) {  // the same values without the selects
-                org_lo[k] = smin(org_lo[k], o);
-                org_hi[k] = smax(org_hi[k], o);
-                inv_lo[k] = smin(inv_lo[k], inv);
-                inv_hi[k] = smax(inv_hi[k], inv);
+                org_lo[k] = min_as_std(org_lo[k], o);
+                org_hi[k] = max_as_std(org_hi[k], o);
+                inv_lo[k] = min_as_std(inv_lo[k], inv);
+                inv_hi[k] = max_as_std(inv_hi[k], inv);
             } else {
-                org_lo[k] = smin(org_lo[k], xsimd::select(on, o, B(kInfinity)));
-                org_hi[k] = smax(org_hi[k], xsimd::select(on, o, B(-kInfinity)));
-                inv_lo[k] = smin(inv_lo[k], xsimd::select(on, inv, B(kInfinity)));
-                inv_hi[k] = smax(inv_hi[k], xsimd::select(on, inv, B(-kInfinity)));
+                org_lo[k] = min_as_std(org_lo[k], xsimd::select(on, o, B(kInfinity)));
+                org_hi[k] = max_as_std(org_hi[k], xsimd::select(on, o, B(-kInfinity)));
+                inv_lo[k] = min_as_std(inv_lo[k], xsimd::select(on, inv, B(kInfinity)));
+                inv_hi[k] = max_as_std(inv_hi[k], xsimd::select(on, inv, B(-kInfinity)));
             }
         }
         // Rounding of enter / exit is covered by widening the packet's interval afterwards.
         const B slack = (xsimd::abs(enter) + xsimd::abs(exit)) * rel + pad_b;
         const Mask in = on & !(enter > exit + slack);
         kept |= bits_of(in) << base;
-        c0 = smin(c0, xsimd::select(in, enter, B(kInfinity)));
-        c1 = smax(c1, xsimd::select(in, exit, B(-kInfinity)));
-        near = smin(near, xsimd::select(in, tnear, B(kInfinity)));
+        c0 = min_as_std(c0, xsimd::select(in, enter, B(kInfinity)));
+        c1 = max_as_std(c1, xsimd::select(in, exit, B(-kInfinity)));
+        near = min_as_std(near, xsimd::select(in, tnear, B(kInfinity)));
     }
     CellEntry e;
     e.lanes = kept;
