@@ -276,12 +276,17 @@ void trace_lanes(const PacketTraversalContext& c, const Packet16& packet, std::u
     interval_traversal<kOcclusion, kCount>(c, &t, 1, t.pb, c0, cell.hi, start, counters);
 }
 
-// Whether the rays of a group are close enough to parallel for interval traversal: every component
+// Whether a group of rays travels together: its origins lie within 1% of the scene's diagonal and
+// its rays are close enough to parallel for interval traversal: every component
 // of the unit directions within kMaxSpread (about 3 degrees), and no component varying by more than a
 // factor kMaxRatio. Otherwise the group's interval bounds cover the whole hull of a widening beam (or
 // lose all precision for rays nearly parallel to a plane), and interval traversal visits far more
 // cells than the rays one by one would.
-bool well_conditioned(const GroupRanges& g) {
+bool travels_together(const GroupRanges& g, const KdTree::Impl& kd) {
+    Box origins;
+    origins.lower = Float3{g.org[0].lo, g.org[1].lo, g.org[2].lo};
+    origins.upper = Float3{g.org[0].hi, g.org[1].hi, g.org[2].hi};
+    if (origins.diagonal() > 0.01f * kd.bounds.diagonal()) return false;
     constexpr float kMaxSpread = 0.05f, kMaxRatio = 8.0f;
     for (int k = 0; k < 3; ++k) {
         // One sign per axis in a group: the magnitudes' range follows from the range.
@@ -341,19 +346,10 @@ void trace_packet_lanes(const PacketTraversalContext& c, const Packet16& packet,
     // Interval traversal pays when the rays of a group travel together. Groups of one or two rays,
     // groups whose origins lie far apart and groups of diverging or nearly plane-parallel directions
     // (incoherent secondary rays) are traced ray by ray.
-    const float far_apart = 0.01f * c.kd.bounds.diagonal();
     for (int o = 0; o < 8 && coherent; ++o) {
         const std::uint32_t lanes = octant_lanes(lanes_of, coherent, o);
         if (lanes == 0) continue;
-        bool together = __builtin_popcount(lanes) > 2;
-        if (together) {
-            const GroupRanges g = group_ranges(packet, lanes_of, lanes);  // origins and unit directions, one pass
-            Box origins;
-            origins.lower = Float3{g.org[0].lo, g.org[1].lo, g.org[2].lo};
-            origins.upper = Float3{g.org[0].hi, g.org[1].hi, g.org[2].hi};
-            together = !(origins.diagonal() > far_apart) && well_conditioned(g);
-        }
-        if (together) {
+        if (__builtin_popcount(lanes) > 2 && travels_together(group_ranges(packet, lanes_of, lanes), c.kd)) {
             trace_lanes<kOcclusion, kCount>(c, packet, lanes, start, lanes_of.speed, hits, occluded, counters);
             continue;
         }
@@ -412,14 +408,7 @@ void trace_packets_together(const PacketTraversalContext& c, const Packet16* con
         }
         rays += __builtin_popcount(coherent[p]);
     }
-    if (together && rays > 2) {
-        Box origins;
-        origins.lower = Float3{all.org[0].lo, all.org[1].lo, all.org[2].lo};
-        origins.upper = Float3{all.org[0].hi, all.org[1].hi, all.org[2].hi};
-        together = !(origins.diagonal() > 0.01f * c.kd.bounds.diagonal()) && well_conditioned(all);
-    } else {
-        together = false;
-    }
+    together = together && rays > 2 && travels_together(all, c.kd);
     if (!together) {
         for (int p = 0; p < n; ++p) {
             clear_packet<kOcclusion, kCount>(hits_of(p), occluded_of(p), counters);
