@@ -58,11 +58,16 @@ Beam TileTracer<kOcclusion, kCount>::tile_beam(int x0, int y0, int x1, int y1) c
                 beam.merge(beams_[std::size_t(cy) * std::size_t(cells_) + std::size_t(cx)]);
         return beam;
     }
+    beam.add(packets_of(x0, y0, x1, y1));
+    return beam;
+}
+
+template <bool kOcclusion, bool kCount>
+std::span<const Packet16* const> TileTracer<kOcclusion, kCount>::packets_of(int x0, int y0, int x1, int y1) const {
     gathered_.clear();
     for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) gathered_.push_back(&packet(x, y));
-    beam.add(gathered_);
-    return beam;
+    return gathered_;
 }
 
 template <bool kOcclusion, bool kCount>
@@ -83,14 +88,11 @@ void TileTracer<kOcclusion, kCount>::trace_initial_tile(int x0, int y0) {
                                       tolerance_, reversed_[std::size_t(y - y0) * std::size_t(tile_side_) + std::size_t(x - x0)]);
     for (int cy = 0; cy < cells_; ++cy)
         for (int cx = 0; cx < cells_; ++cx) {
-            gathered_.clear();
-            for (int y = y0 + cy * cell_; y < std::min(y0 + (cy + 1) * cell_, y1); ++y)
-                for (int x = x0 + cx * cell_; x < std::min(x0 + (cx + 1) * cell_, x1); ++x)
-                    gathered_.push_back(&packet(x, y));
             Beam& b = beams_[std::size_t(cy) * std::size_t(cells_) + std::size_t(cx)];
             b = Beam{};
             b.pad = pad_;
-            b.add(gathered_);
+            b.add(packets_of(x0 + cx * cell_, y0 + cy * cell_, std::min(x0 + (cx + 1) * cell_, x1),
+                             std::min(y0 + (cy + 1) * cell_, y1)));
         }
     trace_tile(x0, y0, x1, y1, root_entry(m_), nullptr, false);
 }
@@ -178,16 +180,9 @@ void TileTracer<kOcclusion, kCount>::trace_packets(int x0, int y0, int x1, int y
         const std::size_t subtree = m_.subtree_nodes[ep.node];
         (*observer_)(TileInfo{x0, y0, x1, y1, ep.node, ep.misses ? 0 : subtree, divergent});
     }
-    const int side = m_.settings.experimental.xp_packets;  // packets traced together: side x side
-    if (side == 1 || divergent) {
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) {
-                const std::size_t p = std::size_t(y) * std::size_t(grid_.columns) + std::size_t(x);
-                trace_packet<kOcclusion, kCount>(m_, packet(x, y), ep, kOcclusion ? nullptr : hits_ + p,
-                                                 kOcclusion ? occluded_ + p : nullptr, counters_, trail);
-            }
-        return;
-    }
+    // Blocks of side x side packets traced together (one packet at a time for diverging rays: their
+    // blocks would not go together).
+    const int side = divergent ? 1 : m_.settings.experimental.xp_packets;
     const Packet16* block[kdtree::kMaxTogether];
     PacketHits16* block_hits[kdtree::kMaxTogether];
     std::uint32_t* block_occluded[kdtree::kMaxTogether];

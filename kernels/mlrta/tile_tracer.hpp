@@ -9,6 +9,7 @@
 // shadow beams from a light often are). Occlusion tiles can be traced from their light: each
 // initial tile's packets are reversed (shadow_reversal.hpp) into a buffer of the tracer's, one
 // initial tile at a time.
+#include <span>
 #include <vector>
 
 #include "beamtrace/mlrta.hpp"
@@ -43,6 +44,8 @@ private:
     // The beam of the tile's rays: merged from its cells' beams when the tile is made of whole
     // cells, from its packets otherwise.
     Beam tile_beam(int x0, int y0, int x1, int y1) const;
+    // The packets of the rectangle [x0, x1) x [y0, y1), row by row, as traced (valid until the next call).
+    std::span<const Packet16* const> packets_of(int x0, int y0, int x1, int y1) const;
     // The packet (x, y) as traced: the grid's, or its reversed copy.
     const Packet16& packet(int x, int y) const;
 
@@ -59,7 +62,7 @@ private:
     int cell_ = 1;                    // beams are kept per cell of cell_ x cell_ packets: no tile is smaller
     int cells_ = 0;                   // cells per side of an initial tile
     std::vector<Beam> beams_;         // of the cells of the current initial tile
-    mutable std::vector<const Packet16*> gathered_;  // packets of a cell or tile, for Beam::add
+    mutable std::vector<const Packet16*> gathered_;  // packets_of's answer
     std::vector<Packet16> reversed_;  // with reverse_: the current initial tile's packets as traced
 };
 

@@ -375,6 +375,9 @@ void trace_packets_together(const PacketTraversalContext& c, const Packet16* con
                             const TraversalStart& start, PacketHits16* const* hits, std::uint32_t* const* occluded,
                             QueryCounters* counters) {
     if (n < 1 || n > kMaxTogether) throw Error("trace_packets_together: between 1 and 16 packets");
+    if (n == 1)
+        return trace_packet<kOcclusion, kCount>(c, *packets[0], start, kOcclusion ? nullptr : hits[0],
+                                                kOcclusion ? occluded[0] : nullptr, counters);
     auto hits_of = [&](int p) { return kOcclusion ? nullptr : hits[p]; };
     auto occluded_of = [&](int p) { return kOcclusion ? occluded[p] : nullptr; };
     // Together only when every packet's valid lanes, but for those with a zero direction component,

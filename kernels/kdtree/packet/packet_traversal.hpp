@@ -76,7 +76,8 @@ inline constexpr int kMaxTogether = 16;
 // shared by n packets instead of one. Only when the packets' valid lanes (but for those with a zero
 // direction component, traced alone) share one sign octant and the whole group passes the tests of
 // trace_packet's groups (origins together, directions within about 3 degrees); otherwise packet
-// by packet with trace_packet. Outputs and counters as trace_packet's, per packet.
+// by packet with trace_packet (as is a single packet). Outputs and counters as trace_packet's, per
+// packet.
 template <bool kOcclusion, bool kCount>
 void trace_packets_together(const PacketTraversalContext& c, const Packet16* const* packets, int n,
                             const TraversalStart& start, PacketHits16* const* hits, std::uint32_t* const* occluded,
