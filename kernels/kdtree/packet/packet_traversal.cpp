@@ -62,10 +62,11 @@ inline float farthest(const TracedPacket& t) {
 }
 
 // The lanes `mask` of a packet (one sign octant, no zero direction component) cut to the start cell
-// and set up for the leaf tests. False when no lane meets the cell. The cell interval of its lanes
-// goes to entry.
-[[gnu::always_inline]] inline bool begin_packet(const PacketTraversalContext& c, const Packet16& packet, std::uint32_t mask, const Box& cell,
-                  const float* speed, TracedPacket& t, CellEntry& entry) {
+// and set up for the leaf tests, with its outputs. False when no lane meets the cell. The interval of
+// distances at which its lanes cross the cell (widened) goes to *interval.
+[[gnu::always_inline]] inline bool begin_packet(const PacketTraversalContext& c, const Packet16& packet, std::uint32_t mask,
+                                                const Box& cell, const float* speed, PacketHits16* hits,
+                                                std::uint32_t* occluded, TracedPacket& t, Interval* interval) {
     PacketBounds& pb = t.pb;
     pb.pad = c.tables.pad;
     {
@@ -77,13 +78,17 @@ inline float farthest(const TracedPacket& t) {
     // Cell decisions use each ray's distance along its line (t * |dir|), so that rays of one
     // direction but different parameter speeds (shadow rays of different lengths) share intervals;
     // triangle tests keep each ray's own t. The lanes' cuts to the start cell, all at once.
-    entry = enter_cell(packet, mask, speed, cell, pb.pad);
+    const CellEntry entry = enter_cell(packet, mask, speed, cell, pb.pad);
     if (entry.lanes == 0) return false;
+    const Interval cut = widen({entry.c0, entry.c1}, pb.pad);
+    *interval = {std::max(cut.lo, entry.near - std::fabs(entry.near) * kRelativePad), cut.hi};
     for (int k = 0; k < 3; ++k) {
         pb.org[k] = entry.org[k];
         pb.inv[k] = entry.inv[k];
     }
     t.packet = &packet;
+    t.hits = hits;
+    t.occluded = occluded;
     t.speed = speed;
     t.frustum = OneOriginFrustum{};
     if (c.triangle_culling) t.frustum = make_one_origin_frustum(packet, entry.lanes);
@@ -267,13 +272,9 @@ template <bool kOcclusion, bool kCount>
 void trace_lanes(const PacketTraversalContext& c, const Packet16& packet, std::uint32_t mask, const TraversalStart& start,
                  const float* speed, PacketHits16* hits, std::uint32_t* occluded, QueryCounters* counters) {
     TracedPacket t;
-    CellEntry entry;
-    if (!begin_packet(c, packet, mask, start.at.box, speed, t, entry)) return;
-    t.hits = hits;
-    t.occluded = occluded;
-    const Interval cell = widen({entry.c0, entry.c1}, t.pb.pad);
-    const float c0 = std::max(cell.lo, entry.near - std::fabs(entry.near) * kRelativePad);
-    interval_traversal<kOcclusion, kCount>(c, &t, 1, t.pb, c0, cell.hi, start, counters);
+    Interval interval;
+    if (!begin_packet(c, packet, mask, start.at.box, speed, hits, occluded, t, &interval)) return;
+    interval_traversal<kOcclusion, kCount>(c, &t, 1, t.pb, interval.lo, interval.hi, start, counters);
 }
 
 // Whether a group of rays travels together: its origins lie within 1% of the scene's diagonal and
@@ -429,13 +430,12 @@ void trace_packets_together(const PacketTraversalContext& c, const Packet16* con
         trace_flat_lanes<kOcclusion, kCount>(c, *packets[p], lanes_of[p], hits_of(p), occluded_of(p), counters);
         if (coherent[p] == 0) continue;
         TracedPacket& t = traced[m];
-        CellEntry entry;
-        if (!begin_packet(c, *packets[p], coherent[p], start.at.box, lanes_of[p].speed, t, entry)) continue;
-        t.hits = hits_of(p);
-        t.occluded = occluded_of(p);
-        const Interval cell = widen({entry.c0, entry.c1}, t.pb.pad);
-        e0 = std::min(e0, std::max(cell.lo, entry.near - std::fabs(entry.near) * kRelativePad));
-        e1 = std::max(e1, cell.hi);
+        Interval interval;
+        if (!begin_packet(c, *packets[p], coherent[p], start.at.box, lanes_of[p].speed, hits_of(p), occluded_of(p), t,
+                          &interval))
+            continue;
+        e0 = std::min(e0, interval.lo);
+        e1 = std::max(e1, interval.hi);
         if (m == 0) {
             pb = t.pb;
         } else {
