@@ -47,6 +47,11 @@ foreach(source
     vlf/stream/tile_ray_stream.cpp
     vlf/vlf_kernels.cpp
     vlf/build/dynamic_update.cpp
+    stream/ray_keys.cpp
+    stream/radix_sort.cpp
+    stream/ray_groups.cpp
+    stream/group_traversal.cpp
+    stream/stream_tracer.cpp
     mlrta/beam.cpp
     mlrta/beam_triangles.cpp
     mlrta/covered_leaves.cpp

@@ -6,5 +6,6 @@
 #include "beamtrace/ray.hpp"
 #include "beamtrace/scene.hpp"
 #include "beamtrace/stats.hpp"
+#include "beamtrace/stream.hpp"
 #include "beamtrace/vec.hpp"
 #include "beamtrace/vlf.hpp"

@@ -42,6 +42,18 @@ struct QueryCounters {
         std::uint64_t entries = 0;  // tile entries whose footprint was compared with the ray's
     } vlf;
 
+    struct Stream {
+        std::uint64_t rays = 0;               // rays of stream calls (StreamTracer)
+        std::uint64_t origin_groups = 0;      // groups of rays with one origin (masked group traversal)
+        std::uint64_t origin_group_rays = 0;  // rays in them
+        std::uint64_t pencil_packets = 0;     // packets of rays through one shared point (interval traversal)
+        std::uint64_t pencil_rays = 0;        // rays in them
+        std::uint64_t single_rays = 0;        // rays traced alone (no group)
+        std::uint64_t group_steps = 0;        // inner nodes visited by origin groups
+        std::uint64_t group_leaves = 0;       // leaves visited by origin groups
+        std::uint64_t sort_nanoseconds = 0;   // keys, sort, grouping and the answers' scatter, summed over calls
+    } stream;
+
     QueryCounters& operator+=(const QueryCounters& o) {
         rays += o.rays;
         packets += o.packets;
@@ -56,6 +68,15 @@ struct QueryCounters {
         mlrta.blocked_tiles += o.mlrta.blocked_tiles;
         vlf.tiles += o.vlf.tiles;
         vlf.entries += o.vlf.entries;
+        stream.rays += o.stream.rays;
+        stream.origin_groups += o.stream.origin_groups;
+        stream.origin_group_rays += o.stream.origin_group_rays;
+        stream.pencil_packets += o.stream.pencil_packets;
+        stream.pencil_rays += o.stream.pencil_rays;
+        stream.single_rays += o.stream.single_rays;
+        stream.group_steps += o.stream.group_steps;
+        stream.group_leaves += o.stream.group_leaves;
+        stream.sort_nanoseconds += o.stream.sort_nanoseconds;
         return *this;
     }
 };

@@ -2,7 +2,6 @@
 // soon as the closest hit lies inside the current cell. Counting is a template parameter, so the
 // measured path and the counted path are the same code.
 #include <cmath>
-#include <utility>
 
 #include "common/ray_validity.hpp"
 #include "common/triangle_reference.hpp"
@@ -13,36 +12,10 @@ namespace {
 
 constexpr int kStackSize = 64;
 
-// Plane and box distances carry rounding, as do the triangle test's t: a hit one ulp inside a cell
-// can be computed one ulp outside it. Cell decisions therefore keep a relative slack (about a
-// million times finer than any cell, so it costs nothing measurable): a child is skipped, or the
-// search ended, only when the distances differ by more than it.
-inline float slack(float t) { return std::fabs(t) * (1.0f / 1048576.0f); }
-
 struct StackEntry {
     std::uint32_t node;
     float tmin, tmax;
 };
-
-// Clips [ray.tnear, ray.tfar] to the box; false if the ray misses it.
-bool clip_to_box(const Ray& ray, const Float3& inv, const Box& box, float& tmin, float& tmax) {
-    tmin = ray.tnear;
-    tmax = ray.tfar;
-    for (int k = 0; k < 3; ++k) {
-        if (ray.dir[k] == 0.0f) {
-            if (ray.org[k] < box.lower[k] || ray.org[k] > box.upper[k]) return false;
-            continue;
-        }
-        float t0 = (box.lower[k] - ray.org[k]) * inv[k];
-        float t1 = (box.upper[k] - ray.org[k]) * inv[k];
-        if (t0 > t1) std::swap(t0, t1);
-        t0 -= slack(t0);
-        t1 += slack(t1);
-        tmin = t0 > tmin ? t0 : tmin;
-        tmax = t1 < tmax ? t1 : tmax;
-    }
-    return tmin <= tmax;
-}
 
 }  // namespace
 

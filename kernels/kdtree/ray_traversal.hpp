@@ -1,11 +1,41 @@
 #pragma once
 // Single-ray kd-tree traversal (kd_traversal.cpp), for the tree's own queries and for the packet
 // traversal's lanes that go alone.
+#include <cmath>
+#include <utility>
+
 #include "beamtrace/query.hpp"
 #include "beamtrace/ray.hpp"
 #include "kdtree/kd_node.hpp"
 
 namespace beamtrace::kdtree {
+
+// Plane and box distances carry rounding, as do the triangle test's t: a hit one ulp inside a cell
+// can be computed one ulp outside it. Cell decisions therefore keep a relative slack (about a
+// million times finer than any cell, so it costs nothing measurable): a child is skipped, or the
+// search ended, only when the distances differ by more than it.
+inline float slack(float t) { return std::fabs(t) * (1.0f / 1048576.0f); }
+
+// Clips [ray.tnear, ray.tfar] to the box (inv: the direction's reciprocals); false if the ray misses
+// it.
+inline bool clip_to_box(const Ray& ray, const Float3& inv, const Box& box, float& tmin, float& tmax) {
+    tmin = ray.tnear;
+    tmax = ray.tfar;
+    for (int k = 0; k < 3; ++k) {
+        if (ray.dir[k] == 0.0f) {
+            if (ray.org[k] < box.lower[k] || ray.org[k] > box.upper[k]) return false;
+            continue;
+        }
+        float t0 = (box.lower[k] - ray.org[k]) * inv[k];
+        float t1 = (box.upper[k] - ray.org[k]) * inv[k];
+        if (t0 > t1) std::swap(t0, t1);
+        t0 -= slack(t0);
+        t1 += slack(t1);
+        tmin = t0 > tmin ? t0 : tmin;
+        tmax = t1 < tmax ? t1 : tmax;
+    }
+    return tmin <= tmax;
+}
 
 // Closest hit (or, with kOcclusion, any hit: Hit::hit() tells) of the ray in the tree; with kCount,
 // counters->rays, inner_steps, leaves and triangle_tests grow.

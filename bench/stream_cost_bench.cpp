@@ -1,0 +1,240 @@
+// The terms of the stream tracer's cost model (docs/streams.md, "Cost model"), each measured alone
+// on a realistic stream: the ambient-occlusion rays (16 per pixel) of a 512x512 image of `room`
+// (and of bunny), in one fixed random order (a wavefront integrator's), traced as occlusion rays.
+//
+//   <scene>/shared_points   sampling the stream for shared points (per call)
+//   <scene>/keys            one key per ray (per ray)
+//   <scene>/radix_sort      the sort of the keys (per ray)
+//   <scene>/gather          the rays copied into sorted order (per ray)
+//   <scene>/cut_groups      the sorted rays cut into groups (per ray)
+//   <scene>/origin_group    one group of rays with one origin by the masked group traversal (per group)
+//   <scene>/single_sorted   the same rays one by one (single-ray traversal) in sorted order (per ray)
+//   <scene>/single_shuffled the same rays one by one in the shuffled order (per ray)
+//   <scene>/stream          the whole StreamTracer::occluded call (per ray)
+//
+// Time is the thread's CPU time; everything runs on one thread.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "beamtrace/kdtree.hpp"
+#include "beamtrace/stream.hpp"
+#include "common/access.hpp"
+#include "kdtree/ray_traversal.hpp"
+#include "stream/group_traversal.hpp"
+#include "stream/radix_sort.hpp"
+#include "stream/ray_groups.hpp"
+#include "stream/ray_keys.hpp"
+#include "bench_scenes.hpp"
+#include "rays/workload.hpp"
+
+namespace {
+
+using namespace beamtrace;
+namespace workload = beamtrace::workload;
+
+constexpr int kImageSize = 512;
+const char* const kScenes[] = {"room", "bunny"};
+
+struct StreamCase {
+    std::string error;
+    std::optional<KdTree> tree;
+    std::vector<Ray> rays;  // shuffled
+    stream::SharedPoints shared;
+    std::vector<std::uint32_t> keys, order, sorted_keys;
+    std::vector<Ray> sorted;
+    std::vector<stream::RayGroup> groups;
+    std::vector<std::uint64_t> scratch;
+};
+
+std::unique_ptr<StreamCase> build_case(const std::string& name) {
+    auto c = std::make_unique<StreamCase>();
+    const std::optional<std::string> spec = bench::scene_spec(name, c->error);
+    if (!spec) return c;
+    workload::WorkloadConfig config;
+    config.scene = *spec;
+    config.mode = workload::Mode::ao;
+    config.width = config.height = kImageSize;
+    const workload::Workload w = workload::make_workload(config);
+    for (std::size_t s = 0; s < w.rays.slots(); ++s)
+        if (w.rays.active(s)) c->rays.push_back(w.rays.ray(s));
+    std::mt19937 random(7);
+    std::shuffle(c->rays.begin(), c->rays.end(), random);
+    c->tree.emplace(KdTree::build(w.source.scene));
+    const KdTree::Impl& kd = detail::Access::impl(*c->tree);
+    const std::size_t n = c->rays.size();
+    c->shared = stream::find_shared_points(c->rays, kd.bounds, 4096, 0.01f, StreamSettings::kMaxSharedPoints);
+    c->keys.resize(n);
+    c->order.resize(n);
+    c->sorted_keys.resize(n);
+    c->sorted.resize(n);
+    stream::make_keys(c->rays, kd.bounds, c->shared, c->keys);
+    stream::sort_by_key(c->keys, c->order, c->sorted_keys, 1, c->scratch);
+    for (std::size_t k = 0; k < n; ++k) c->sorted[k] = c->rays[c->order[k]];
+    stream::cut_groups(c->sorted, c->sorted_keys, c->order, 4, c->groups);
+    return c;
+}
+
+StreamCase& stream_case(const std::string& name) {
+    static std::map<std::string, std::unique_ptr<StreamCase>> cache;
+    auto& slot = cache[name];
+    if (!slot) slot = build_case(name);
+    return *slot;
+}
+
+bool usable(benchmark::State& state, const StreamCase& c) {
+    if (c.error.empty()) return true;
+    state.SkipWithError(c.error.c_str());
+    return false;
+}
+
+void per_ray(benchmark::State& state, std::size_t rays) {
+    state.SetItemsProcessed(std::int64_t(state.iterations() * rays));
+    state.counters["ns_per_ray"] =
+        benchmark::Counter(double(state.iterations() * rays), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    state.counters["ns_per_ray"] = benchmark::Counter(double(state.iterations()) * double(rays) * 1e-9,
+                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void bm_shared_points(benchmark::State& state, const std::string& name) {
+    StreamCase& c = stream_case(name);
+    if (!usable(state, c)) return;
+    const Box box = detail::Access::impl(*c.tree).bounds;
+    for (auto _ : state) benchmark::DoNotOptimize(stream::find_shared_points(c.rays, box, 4096, 0.01f, 16));
+}
+
+void bm_keys(benchmark::State& state, const std::string& name) {
+    StreamCase& c = stream_case(name);
+    if (!usable(state, c)) return;
+    const Box box = detail::Access::impl(*c.tree).bounds;
+    for (auto _ : state) {
+        stream::make_keys(c.rays, box, c.shared, c.keys);
+        benchmark::DoNotOptimize(c.keys.data());
+    }
+    per_ray(state, c.rays.size());
+}
+
+void bm_radix_sort(benchmark::State& state, const std::string& name) {
+    StreamCase& c = stream_case(name);
+    if (!usable(state, c)) return;
+    for (auto _ : state) {
+        stream::sort_by_key(c.keys, c.order, c.sorted_keys, 1, c.scratch);
+        benchmark::DoNotOptimize(c.order.data());
+    }
+    per_ray(state, c.rays.size());
+}
+
+void bm_gather(benchmark::State& state, const std::string& name) {
+    StreamCase& c = stream_case(name);
+    if (!usable(state, c)) return;
+    for (auto _ : state) {
+        for (std::size_t k = 0; k < c.rays.size(); ++k) c.sorted[k] = c.rays[c.order[k]];
+        benchmark::DoNotOptimize(c.sorted.data());
+    }
+    per_ray(state, c.rays.size());
+}
+
+void bm_cut_groups(benchmark::State& state, const std::string& name) {
+    StreamCase& c = stream_case(name);
+    if (!usable(state, c)) return;
+    for (auto _ : state) {
+        stream::cut_groups(c.sorted, c.sorted_keys, c.order, 4, c.groups);
+        benchmark::DoNotOptimize(c.groups.data());
+    }
+    per_ray(state, c.rays.size());
+    state.counters["groups"] = double(c.groups.size());
+}
+
+void bm_origin_group(benchmark::State& state, const std::string& name) {
+    StreamCase& c = stream_case(name);
+    if (!usable(state, c)) return;
+    const KdTree::Impl& kd = detail::Access::impl(*c.tree);
+    std::vector<Packet16> packets;
+    for (const stream::RayGroup& g : c.groups) {
+        if (g.kind != stream::RayGroup::Kind::origin) continue;
+        Packet16 p;
+        for (std::uint32_t i = 0; i < 16; ++i)
+            p.set_ray(int(i), i < g.count ? c.sorted[g.begin + i] : Ray{{0, 0, 0}, 0, {0, 0, 1}, 0});
+        p.active = g.count >= 16 ? 0xFFFFu : (1u << g.count) - 1u;
+        packets.push_back(p);
+    }
+    if (packets.empty()) {
+        state.SkipWithError("no origin groups");
+        return;
+    }
+    std::size_t next = 0;
+    std::uint32_t bits = 0;
+    PacketHits16 hits;
+    for (auto _ : state) {
+        stream::trace_group<true, false>(kd, packets[next], &hits, &bits, nullptr);
+        benchmark::DoNotOptimize(bits);
+        next = next + 1 == packets.size() ? 0 : next + 1;
+    }
+    QueryCounters counters;
+    for (const Packet16& p : packets) stream::trace_group<true, true>(kd, p, &hits, &bits, &counters);
+    const double g = double(packets.size());
+    state.counters["steps_per_group"] = double(counters.stream.group_steps) / g;
+    state.counters["leaves_per_group"] = double(counters.stream.group_leaves) / g;
+    state.counters["tests_per_group"] = double(counters.triangle_tests) / g;
+}
+
+void bm_single(benchmark::State& state, const std::string& name, bool sorted) {
+    StreamCase& c = stream_case(name);
+    if (!usable(state, c)) return;
+    const KdTree::Impl& kd = detail::Access::impl(*c.tree);
+    const std::vector<Ray>& rays = sorted ? c.sorted : c.rays;
+    std::size_t next = 0, hits = 0;
+    for (auto _ : state) {
+        hits += kdtree::occluded_one(kd, rays[next]);
+        next = next + 1 == rays.size() ? 0 : next + 1;
+    }
+    benchmark::DoNotOptimize(hits);
+    per_ray(state, 1);
+}
+
+void bm_stream(benchmark::State& state, const std::string& name) {
+    StreamCase& c = stream_case(name);
+    if (!usable(state, c)) return;
+    const StreamTracer tracer(*c.tree);
+    std::vector<std::uint8_t> occluded(c.rays.size());
+    for (auto _ : state) {
+        tracer.occluded(c.rays, occluded);
+        benchmark::DoNotOptimize(occluded.data());
+    }
+    per_ray(state, c.rays.size());
+}
+
+void register_benchmarks() {
+    for (const char* scene : kScenes) {
+        const std::string name = scene;
+        auto reg = [&](const char* term, auto f) {
+            benchmark::RegisterBenchmark((name + "/" + term).c_str(), f)->Unit(benchmark::kMicrosecond);
+        };
+        reg("shared_points", [name](benchmark::State& s) { bm_shared_points(s, name); });
+        reg("keys", [name](benchmark::State& s) { bm_keys(s, name); });
+        reg("radix_sort", [name](benchmark::State& s) { bm_radix_sort(s, name); });
+        reg("gather", [name](benchmark::State& s) { bm_gather(s, name); });
+        reg("cut_groups", [name](benchmark::State& s) { bm_cut_groups(s, name); });
+        reg("origin_group", [name](benchmark::State& s) { bm_origin_group(s, name); });
+        reg("single_sorted", [name](benchmark::State& s) { bm_single(s, name, true); });
+        reg("single_shuffled", [name](benchmark::State& s) { bm_single(s, name, false); });
+        reg("stream", [name](benchmark::State& s) { bm_stream(s, name); });
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    register_benchmarks();
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

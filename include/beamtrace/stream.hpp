@@ -1,0 +1,76 @@
+#pragma once
+// Streams of arbitrary rays (secondary rays in whatever order an integrator made them), traced by
+// the kd-tree after hashing and sorting them into coherent groups (after CRSH, Reis et al. 2017, and
+// MLRTA section 6; docs/streams.md):
+//
+//  1. a 32-bit key per ray, tuned by the ray's kind: rays through a point many rays share (a camera,
+//     a point light: found by sampling the stream) are keyed by that point and their direction
+//     (octahedral code, no seam); every other ray by its origin (Morton code of its cell);
+//  2. a radix sort of the keys (linear time);
+//  3. groups cut from the sorted order: up to 16 rays through one shared point make a packet, traced
+//     by the kd-tree's interval traversal (shadow rays towards a light are traced from the light,
+//     MLRTA section 6); up to 16 rays with one origin (ambient occlusion: the rays of one hit point)
+//     make a group traced by a masked traversal that shares every step among them and tests their
+//     common cells' triangles 16 rays at a time; the rest go ray by ray, in sorted order;
+//  4. the answers scattered back to input order.
+//
+// The answers do not depend on the order of the input (only on each ray): a ray's closest hit is
+// the kd-tree's (the same triangle tests; with equal distances, which of two triangles is reported
+// may differ), and occlusion is exact.
+#include <cstdint>
+#include <span>
+
+#include "beamtrace/kdtree.hpp"
+#include "beamtrace/query.hpp"
+#include "beamtrace/ray.hpp"
+
+namespace beamtrace {
+
+struct StreamSettings {
+    // Sort the rays into groups (false: every ray by the single-ray traversal in input order; the
+    // same answers, for measuring what sorting buys).
+    bool sort = true;
+    // Shared points: a point is shared when at least this fraction of a sample of the stream passes
+    // through it (starts there, or ends there); at most kMaxSharedPoints of them.
+    float shared_point_fraction = 0.01f;
+    int sample_rays = 4096;
+    // Groups of fewer rays than this go ray by ray (2 .. 16).
+    int min_group_rays = 4;
+
+    static constexpr int kMaxSharedPoints = 16;
+
+    // Throws beamtrace::Error for a value out of range.
+    void validate() const;
+};
+
+class StreamTracer {
+public:
+    // The tree must outlive the tracer (it is held by value: a KdTree is a shared handle).
+    explicit StreamTracer(const KdTree& tree, const StreamSettings& settings = {});
+
+    // The query contract (query.hpp). Spans of rays: sorted and grouped as above; single rays and
+    // packets: the kd-tree's own queries.
+    Hit intersect(const Ray& ray) const;
+    bool occluded(const Ray& ray) const;
+    void intersect(std::span<const Ray> rays, std::span<Hit> hits, const QueryOptions& options = {}) const;
+    void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded, const QueryOptions& options = {}) const;
+    void intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits,
+                   const QueryOptions& options = {}) const;
+    void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded,
+                  const QueryOptions& options = {}) const;
+
+    // The order a call traces `rays` in (order[k]: the input index of the k-th ray traced), for
+    // handing the same order to another tracer. closest_hit: the order of intersect(), else of
+    // occluded() (rays ending at a shared point are grouped for occlusion only).
+    void sorted_order(std::span<const Ray> rays, bool closest_hit, std::span<std::uint32_t> order,
+                      const QueryOptions& options = {}) const;
+
+    const KdTree& tree() const { return tree_; }
+    const StreamSettings& settings() const { return settings_; }
+
+private:
+    KdTree tree_;
+    StreamSettings settings_;
+};
+
+}  // namespace beamtrace

@@ -1,0 +1,285 @@
+// Masked group traversal (group_traversal.hpp), SSE four lanes at a time (the library's baseline),
+// triangle tests through the dispatched kernels.
+#include "stream/group_traversal.hpp"
+
+#include <cmath>
+
+#include "common/ray_validity.hpp"
+#include "common/triangle_kernels.hpp"
+#include "common/watertight_ray.hpp"
+#include "kdtree/ray_traversal.hpp"
+#include "simd/sse_lanes.hpp"
+
+namespace beamtrace::stream {
+
+namespace {
+
+using B = sse::Floats;
+using M = sse::Mask;
+constexpr int W = int(B::size);
+constexpr int kStackSize = 64;
+
+struct alignas(16) Intervals {
+    float tmin[16], tmax[16];
+};
+
+struct StackEntry {
+    std::uint32_t node;
+    std::uint32_t lanes;
+    Intervals t;
+};
+
+// The group's rays in the layout the steps read.
+struct GroupRays {
+    const float* org[3];
+    const float* dir[3];
+    alignas(16) float inv[3][16];
+};
+
+// One inner node for every lane in `lanes`: which lanes visit the lower and the upper child, and
+// their intervals there (the single-ray traversal's decisions, lane by lane).
+struct Split {
+    std::uint32_t lower = 0, upper = 0;
+    bool lower_first = true;  // the order of the leading lane
+    Intervals lo, up;
+};
+
+void split_lanes(const GroupRays& g, const Intervals& t, std::uint32_t lanes, int axis, float split_at, Split& s) {
+    const B split(split_at), ulp(1.0f / 1048576.0f), zero(0.0f);
+    const int lead = __builtin_ctz(lanes);
+    for (int base = 0; base < 16; base += W) {
+        if (((lanes >> base) & 0xFu) == 0) continue;
+        const B o = B::load_unaligned(g.org[axis] + base), d = B::load_unaligned(g.dir[axis] + base);
+        const B tmin = B::load_aligned(t.tmin + base), tmax = B::load_aligned(t.tmax + base);
+        const B tp = (split - o) * B::load_aligned(g.inv[axis] + base);
+        // The lower child first: the origin below the plane, or in it going up; a plane crossed
+        // behind the origin swaps the order.
+        const M lower_side = (o < split) | ((o == split) & (d > zero));
+        const M first_lower = lower_side ^ (tp < zero);
+        const M visits_first = !(tp < tmin - xsimd::abs(tmin) * ulp);
+        const M visits_second = !(tp > tmax + xsimd::abs(tmax) * ulp);
+        const M both = visits_first & visits_second & (tp == tp);
+        const M second_lower = !first_lower;
+        const M lower = (first_lower & visits_first) | (second_lower & visits_second);
+        const M upper = (first_lower & visits_second) | (second_lower & visits_first);
+        const M on = sse::lanes_on(lanes >> base);
+        s.lower |= sse::bits_of(lower & on) << base;
+        s.upper |= sse::bits_of(upper & on) << base;
+        xsimd::select(both & second_lower, tp, tmin).store_aligned(s.lo.tmin + base);
+        xsimd::select(both & first_lower, tp, tmax).store_aligned(s.lo.tmax + base);
+        xsimd::select(both & first_lower, tp, tmin).store_aligned(s.up.tmin + base);
+        xsimd::select(both & second_lower, tp, tmax).store_aligned(s.up.tmax + base);
+        if (lead >= base && lead < base + W) s.lower_first = (sse::bits_of(first_lower) >> (lead - base)) & 1u;
+    }
+}
+
+// Lanes whose interval starts beyond their closest hit (with the traversal's slack) leave.
+std::uint32_t lanes_before(const Intervals& t, const float* best, std::uint32_t lanes) {
+    const B ulp(1.0f / 1048576.0f);
+    std::uint32_t keep = 0;
+    for (int base = 0; base < 16; base += W) {
+        if (((lanes >> base) & 0xFu) == 0) continue;
+        const B b = B::load_aligned(best + base);
+        keep |= sse::bits_of(!(B::load_aligned(t.tmin + base) > b + xsimd::abs(b) * ulp)) << base;
+    }
+    return keep & lanes;
+}
+
+template <bool kOcclusion, bool kCount>
+class GroupTrace {
+public:
+    GroupTrace(const KdTree::Impl& kd, const Packet16& group, PacketHits16* hits, std::uint32_t* occluded,
+               QueryCounters* counters)
+        : kd_(kd), group_(group), hits_(hits), occluded_(occluded), counters_(counters), kernels_(*kd.kernels) {}
+
+    void run() {
+        if constexpr (kOcclusion)
+            *occluded_ = 0;
+        else
+            for (int i = 0; i < 16; ++i) hits_->set_hit(i, Hit{});
+        Intervals t;
+        std::uint32_t lanes = 0;
+        for (int k = 0; k < 3; ++k) {
+            rays_.org[k] = k == 0 ? group_.org_x : k == 1 ? group_.org_y : group_.org_z;
+            rays_.dir[k] = k == 0 ? group_.dir_x : k == 1 ? group_.dir_y : group_.dir_z;
+        }
+        for (std::uint32_t m = group_.active & 0xFFFFu; m; m &= m - 1) {
+            const int i = __builtin_ctz(m);
+            const Ray r = group_.ray(i);
+            best_[i] = r.tfar;
+            if (!describes_segment(r)) continue;
+            const Float3 inv{1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z};
+            for (int k = 0; k < 3; ++k) rays_.inv[k][i] = inv[k];
+            if (kdtree::clip_to_box(r, inv, kd_.bounds, t.tmin[i], t.tmax[i])) lanes |= 1u << i;
+        }
+        for (std::uint32_t m = ~lanes & 0xFFFFu; m; m &= m - 1) {  // lanes out: harmless values
+            const int i = __builtin_ctz(m);
+            t.tmin[i] = t.tmax[i] = 0.0f;
+            best_[i] = 0.0f;
+            for (int k = 0; k < 3; ++k) rays_.inv[k][i] = 1.0f;
+        }
+        if (lanes == 0) return;
+        valid_ = lanes;
+        Packet16 valid = group_;
+        valid.active = lanes;
+        packet_ = make_watertight_packet(valid);
+        traverse(lanes, t);
+    }
+
+private:
+    void traverse(std::uint32_t lanes, Intervals& t) {
+        const KdNode* nodes = kd_.nodes.data();
+        StackEntry stack[kStackSize];
+        int top = 0;
+        std::uint32_t index = 0;
+        for (;;) {
+            if (lanes != 0) {
+                const KdNode& node = nodes[index];
+                if (!node.is_leaf()) {
+                    if constexpr (kCount) ++counters_->stream.group_steps;
+                    Split s;
+                    split_lanes(rays_, t, lanes, node.axis(), node.split, s);
+                    const std::uint32_t lower_child = index + 1, upper_child = node.upper_child();
+                    const bool lower_first = s.lower == 0 ? false : s.upper == 0 ? true : s.lower_first;
+                    const std::uint32_t second_lanes = lower_first ? s.upper : s.lower;
+                    if (second_lanes != 0) {  // depth <= 60 (KdBuildRules): the stack never overflows
+                        stack[top].node = lower_first ? upper_child : lower_child;
+                        stack[top].lanes = second_lanes;
+                        stack[top].t = lower_first ? s.up : s.lo;
+                        ++top;
+                    }
+                    index = lower_first ? lower_child : upper_child;
+                    lanes = lower_first ? s.lower : s.upper;
+                    t = lower_first ? s.lo : s.up;
+                    continue;
+                }
+                visit_leaf(node, lanes);
+                if constexpr (kOcclusion)
+                    if (done_ == valid_) return;
+            }
+            // The next cell from the stack, for the lanes still looking.
+            for (;;) {
+                if (top == 0) return;
+                StackEntry& e = stack[--top];
+                lanes = e.lanes & ~done_;
+                if constexpr (!kOcclusion) lanes = lanes_before(e.t, best_, lanes);
+                if (lanes == 0) continue;
+                index = e.node;
+                t = e.t;
+                break;
+            }
+        }
+    }
+
+    void visit_leaf(const KdNode& node, std::uint32_t lanes) {
+        const std::uint32_t count = node.triangle_count();
+        if (count == 0) return;
+        if constexpr (kCount) ++counters_->stream.group_leaves;
+        const std::uint32_t* ids = kd_.triangle_ids.data() + node.offset();
+        const Triangle* tris = kd_.leaf_triangles.data() + node.offset();
+        if (__builtin_popcount(lanes) >= kPacketTestLanes) {
+            if constexpr (kCount) counters_->triangle_tests += count;
+            packet_.active = lanes;
+            for (std::uint32_t j = 0; j < count; ++j) {
+                LaneHits h;
+                kernels_.packet_x1(packet_, tris[j], h);
+                take(h, ids[j]);
+                if constexpr (kOcclusion) {
+                    packet_.active &= ~h.mask;
+                    if (packet_.active == 0) break;
+                }
+            }
+            packet_.active = group_active();
+            return;
+        }
+        for (std::uint32_t m = lanes; m; m &= m - 1) {
+            const int i = __builtin_ctz(m);
+            if constexpr (kCount) counters_->triangle_tests += count;
+            WatertightRay w = lane_ray(i);
+            for (std::uint32_t j = 0; j < count; j += 8) {
+                const int n = int(count - j < 8 ? count - j : 8);
+                const Triangle* batch[8];
+                for (int k = 0; k < n; ++k) batch[k] = tris + j + std::uint32_t(k);
+                LaneHits h;
+                if (n <= 4)
+                    kernels_.ray_x4(w, batch, n, h);
+                else
+                    kernels_.ray_x8(w, batch, n, h);
+                if constexpr (kOcclusion) {
+                    if (h.mask) {
+                        done_ |= 1u << i;
+                        *occluded_ |= 1u << i;
+                        break;
+                    }
+                } else {
+                    for (std::uint32_t b = h.mask; b; b &= b - 1) {
+                        const int k = __builtin_ctz(b);
+                        if (h.t[k] < best_[i]) {
+                            record(i, h.t[k], ids[j + std::uint32_t(k)], h.u[k], h.v[k]);
+                            w.tfar = h.t[k];
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    // Hits of a 16-ray test of triangle `id`.
+    void take(const LaneHits& h, std::uint32_t id) {
+        const std::uint32_t mask = h.mask;
+        if constexpr (kOcclusion) {
+            done_ |= mask;
+            *occluded_ |= mask;
+        } else {
+            for (std::uint32_t b = mask; b; b &= b - 1) {
+                const int i = __builtin_ctz(b);
+                if (h.t[i] < best_[i]) record(i, h.t[i], id, h.u[i], h.v[i]);
+            }
+        }
+    }
+
+    void record(int i, float t, std::uint32_t id, float u, float v) {
+        best_[i] = t;
+        packet_.tfar[i] = t;
+        hits_->set_hit(i, Hit{t, id, u, v});
+    }
+
+    WatertightRay lane_ray(int i) const {
+        Ray r = group_.ray(i);
+        r.tfar = best_[i];
+        return make_watertight_ray(r);
+    }
+
+    std::uint32_t group_active() const { return valid_ & ~done_; }
+
+    const KdTree::Impl& kd_;
+    const Packet16& group_;
+    PacketHits16* hits_;
+    std::uint32_t* occluded_;
+    QueryCounters* counters_;
+    const TriangleKernels& kernels_;
+    GroupRays rays_{};
+    WatertightPacket16 packet_;
+    alignas(16) float best_[16] = {};
+    std::uint32_t done_ = 0;
+    std::uint32_t valid_ = 0;
+};
+
+}  // namespace
+
+template <bool kOcclusion, bool kCount>
+void trace_group(const KdTree::Impl& kd, const Packet16& group, PacketHits16* hits, std::uint32_t* occluded,
+                 QueryCounters* counters) {
+    GroupTrace<kOcclusion, kCount>(kd, group, hits, occluded, counters).run();
+}
+
+template void trace_group<false, false>(const KdTree::Impl&, const Packet16&, PacketHits16*, std::uint32_t*,
+                                        QueryCounters*);
+template void trace_group<false, true>(const KdTree::Impl&, const Packet16&, PacketHits16*, std::uint32_t*,
+                                       QueryCounters*);
+template void trace_group<true, false>(const KdTree::Impl&, const Packet16&, PacketHits16*, std::uint32_t*,
+                                       QueryCounters*);
+template void trace_group<true, true>(const KdTree::Impl&, const Packet16&, PacketHits16*, std::uint32_t*,
+                                      QueryCounters*);
+
+}  // namespace beamtrace::stream

@@ -1,0 +1,141 @@
+// Ray keys of the stream tracer (ray_keys.hpp).
+#include "stream/ray_keys.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "common/ray_validity.hpp"
+
+namespace beamtrace::stream {
+
+namespace {
+
+// The bits of x spread to every third bit (10 bits).
+std::uint32_t spread3(std::uint32_t x) {
+    x &= 0x3FFu;
+    x = (x | (x << 16)) & 0x030000FFu;
+    x = (x | (x << 8)) & 0x0300F00Fu;
+    x = (x | (x << 4)) & 0x030C30C3u;
+    x = (x | (x << 2)) & 0x09249249u;
+    return x;
+}
+
+// The bits of x spread to every second bit (16 bits).
+std::uint32_t spread2(std::uint32_t x) {
+    x &= 0xFFFFu;
+    x = (x | (x << 8)) & 0x00FF00FFu;
+    x = (x | (x << 4)) & 0x0F0F0F0Fu;
+    x = (x | (x << 2)) & 0x33333333u;
+    x = (x | (x << 1)) & 0x55555555u;
+    return x;
+}
+
+std::uint32_t quantise(float x, int cells) {
+    const float q = x * float(cells);
+    if (!(q > 0.0f)) return 0;  // NaN too
+    return std::min(std::uint32_t(q), std::uint32_t(cells - 1));
+}
+
+Float3 far_end(const Ray& r) { return r.org + r.dir * r.tfar; }
+
+float distance2(const Float3& a, const Float3& b) {
+    const Float3 d = a - b;
+    return dot(d, d);
+}
+
+}  // namespace
+
+std::uint32_t octahedral_code(const Float3& dir, int bits) {
+    const float l = std::fabs(dir.x) + std::fabs(dir.y) + std::fabs(dir.z);
+    float u = dir.x / l, v = dir.y / l;
+    if (dir.z < 0.0f) {
+        const float fu = (1.0f - std::fabs(v)) * (u >= 0.0f ? 1.0f : -1.0f);
+        const float fv = (1.0f - std::fabs(u)) * (v >= 0.0f ? 1.0f : -1.0f);
+        u = fu;
+        v = fv;
+    }
+    const int cells = 1 << bits;
+    return spread2(quantise(u * 0.5f + 0.5f, cells)) | (spread2(quantise(v * 0.5f + 0.5f, cells)) << 1);
+}
+
+std::uint32_t morton_cell(const Float3& p, const Box& box) {
+    const Float3 e = box.extent();
+    std::uint32_t code = 0;
+    for (int k = 0; k < 3; ++k) {
+        const float x = e[k] > 0.0f ? (p[k] - box.lower[k]) / e[k] : 0.0f;
+        code |= spread3(quantise(x, 1024)) << k;
+    }
+    return code;
+}
+
+SharedPoints find_shared_points(std::span<const Ray> rays, const Box& scene_box, int sample_rays, float fraction,
+                                int max_points) {
+    SharedPoints shared;
+    shared.radius = 1e-3f * std::sqrt(dot(scene_box.extent(), scene_box.extent()));
+    if (rays.empty() || sample_rays <= 0 || max_points <= 0) return shared;
+    const std::size_t n = rays.size(), samples = std::min<std::size_t>(n, std::size_t(sample_rays));
+    // Origins counted bit for bit; far ends by cells of the radius (then merged around their mean).
+    std::map<std::tuple<float, float, float>, int> origins;
+    struct EndCell {
+        Float3 sum{0, 0, 0};
+        int count = 0;
+    };
+    std::map<std::tuple<std::int64_t, std::int64_t, std::int64_t>, EndCell> ends;
+    const float cell = 2.0f * shared.radius;
+    for (std::size_t s = 0; s < samples; ++s) {
+        const Ray& r = rays[s * n / samples];
+        if (!describes_segment(r)) continue;
+        ++origins[{r.org.x, r.org.y, r.org.z}];
+        if (std::isfinite(r.tfar) && cell > 0.0f) {
+            const Float3 e = far_end(r);
+            if (!(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z))) continue;
+            EndCell& c = ends[{std::int64_t(std::floor(e.x / cell)), std::int64_t(std::floor(e.y / cell)),
+                               std::int64_t(std::floor(e.z / cell))}];
+            c.sum = c.sum + e;
+            ++c.count;
+        }
+    }
+    const int needed = std::max(2, int(std::ceil(double(fraction) * double(samples))));
+    std::vector<std::pair<int, SharedPoint>> found;
+    for (const auto& [o, count] : origins)
+        if (count >= needed) found.push_back({count, SharedPoint{{std::get<0>(o), std::get<1>(o), std::get<2>(o)}, false}});
+    for (const auto& [key, c] : ends)
+        if (c.count >= needed) found.push_back({c.count, SharedPoint{c.sum * (1.0f / float(c.count)), true}});
+    std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    for (const auto& f : found) {
+        if (int(shared.points.size()) == max_points) break;
+        shared.points.push_back(f.second);
+    }
+    return shared;
+}
+
+int shared_point_of(const Ray& ray, const SharedPoints& shared) {
+    const float r2 = shared.radius * shared.radius;
+    for (std::size_t p = 0; p < shared.points.size(); ++p) {
+        const SharedPoint& s = shared.points[p];
+        if (!s.ends) {
+            if (ray.org.x == s.at.x && ray.org.y == s.at.y && ray.org.z == s.at.z) return int(p);
+        } else if (std::isfinite(ray.tfar) && distance2(far_end(ray), s.at) <= r2) {
+            return int(p);
+        }
+    }
+    return -1;
+}
+
+void make_keys(std::span<const Ray> rays, const Box& scene_box, const SharedPoints& shared,
+               std::span<std::uint32_t> keys) {
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Ray& r = rays[i];
+        if (!describes_segment(r)) {
+            keys[i] = kNoSegmentKey;
+            continue;
+        }
+        const int p = shared.points.empty() ? -1 : shared_point_of(r, shared);
+        keys[i] = p >= 0 ? kPencilBit | (std::uint32_t(p) << kPointShift) | octahedral_code(r.dir, 13)
+                         : morton_cell(r.org, scene_box);
+    }
+}
+
+}  // namespace beamtrace::stream

@@ -1,0 +1,55 @@
+#pragma once
+// The hashing step of the stream tracer (CRSH's ray hashing, tuned by ray kind; docs/streams.md):
+// one 32-bit key per ray, so that a sort puts rays that can be traced together next to each other.
+//
+//   bit 31 = 1: a ray through a shared point (it starts there, or ends there): bits 26..30 the point,
+//               bits 0..25 the octahedral code of its direction (13 bits per coordinate, interleaved)
+//   bit 31 = 0: any other ray: bits 0..29 the Morton code of its origin's cell (1024 cells per axis
+//               of the scene box); rays with one origin get one key
+//   0xFFFFFFFF: a ray that describes no segment (ray.hpp), answered without tracing
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "beamtrace/ray.hpp"
+#include "beamtrace/vec.hpp"
+
+namespace beamtrace::stream {
+
+inline constexpr std::uint32_t kPencilBit = 1u << 31;
+inline constexpr std::uint32_t kNoSegmentKey = 0xFFFFFFFFu;
+inline constexpr int kPointShift = 26;
+
+// A point many rays of a stream pass through: their common origin (a camera) or the point they end
+// at (a point light: the far end org + tfar * dir lies within `radius` of it).
+struct SharedPoint {
+    Float3 at;
+    bool ends = false;  // rays end here (else: they start here, bit for bit)
+};
+
+// The shared points of a stream, found from a sample of its rays: points through which at least
+// `fraction` of the sampled rays pass (at most `max_points`). `radius` of end points: 1e-3 of the
+// scene box's diagonal.
+struct SharedPoints {
+    std::vector<SharedPoint> points;
+    float radius = 0.0f;
+};
+SharedPoints find_shared_points(std::span<const Ray> rays, const Box& scene_box, int sample_rays, float fraction,
+                                int max_points);
+
+// The point a ray passes through (index into points), or -1.
+int shared_point_of(const Ray& ray, const SharedPoints& shared);
+
+// The octahedral code of a direction: its unit-octahedron projection unfolded onto the square
+// [-1, 1]^2, quantised to 2^bits cells per side and interleaved (Morton); neighbouring directions get
+// neighbouring codes, with no seam.
+std::uint32_t octahedral_code(const Float3& dir, int bits);
+
+// The Morton code of a point's cell among 1024^3 cells of the box (points outside are clamped).
+std::uint32_t morton_cell(const Float3& p, const Box& box);
+
+// keys[i] for rays[i].
+void make_keys(std::span<const Ray> rays, const Box& scene_box, const SharedPoints& shared,
+               std::span<std::uint32_t> keys);
+
+}  // namespace beamtrace::stream

@@ -1,0 +1,245 @@
+// The stream tracer (beamtrace/stream.hpp): keys, sort, groups, then each group traced by what
+// suits it, the answers written back in input order.
+#include "beamtrace/stream.hpp"
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include <tbb/task_arena.h>
+
+#include "beamtrace/error.hpp"
+#include "common/access.hpp"
+#include "common/query_runner.hpp"
+#include "kdtree/packet/packet_traversal.hpp"
+#include "kdtree/ray_traversal.hpp"
+#include "mlrta/shadow_reversal.hpp"
+#include "stream/group_traversal.hpp"
+#include "stream/radix_sort.hpp"
+#include "stream/ray_groups.hpp"
+#include "stream/ray_keys.hpp"
+
+namespace beamtrace {
+
+void StreamSettings::validate() const {
+    if (!(shared_point_fraction > 0.0f && shared_point_fraction <= 1.0f))
+        throw Error("StreamSettings: shared_point_fraction must be in (0, 1], not " +
+                    std::to_string(shared_point_fraction));
+    if (sample_rays < 0) throw Error("StreamSettings: sample_rays must be at least 0, not " + std::to_string(sample_rays));
+    if (min_group_rays < 2 || min_group_rays > 16)
+        throw Error("StreamSettings: min_group_rays must be in [2, 16], not " + std::to_string(min_group_rays));
+}
+
+StreamTracer::StreamTracer(const KdTree& tree, const StreamSettings& settings) : tree_(tree), settings_(settings) {
+    settings_.validate();
+}
+
+namespace {
+
+using stream::RayGroup;
+constexpr std::size_t kGroupGrain = 256;
+
+// The sorted order of a call: keys, order and groups.
+struct SortedStream {
+    std::vector<std::uint32_t> keys, order, sorted_keys;
+    std::vector<Ray> rays;  // in sorted order
+    std::vector<std::uint64_t> scratch;
+    std::vector<RayGroup> groups;
+};
+
+// Runs f in an arena of `threads` threads (on the calling thread when 1).
+template <class F>
+void in_arena(int threads, F&& f) {
+    if (threads <= 1) {
+        f();
+        return;
+    }
+    tbb::task_arena arena(threads);
+    arena.execute(f);
+}
+
+void sort_stream(const KdTree::Impl& kd, const StreamSettings& s, std::span<const Ray> rays, bool occlusion,
+                 const QueryOptions& options, SortedStream& out, bool groups) {
+    stream::SharedPoints shared = stream::find_shared_points(rays, kd.bounds, s.sample_rays, s.shared_point_fraction,
+                                                             StreamSettings::kMaxSharedPoints);
+    if (!occlusion) std::erase_if(shared.points, [](const stream::SharedPoint& p) { return p.ends; });
+    out.keys.resize(rays.size());
+    out.order.resize(rays.size());
+    out.sorted_keys.resize(rays.size());
+    out.rays.resize(rays.size());
+    run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
+        stream::make_keys(rays.subspan(b, e - b), kd.bounds, shared, std::span(out.keys).subspan(b, e - b));
+    });
+    in_arena(options.threads,
+             [&] { stream::sort_by_key(out.keys, out.order, out.sorted_keys, options.threads, out.scratch); });
+    if (!groups) return;
+    run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
+        for (std::size_t k = b; k < e; ++k) out.rays[k] = rays[out.order[k]];
+    });
+    stream::cut_groups(out.rays, out.sorted_keys, out.order, s.min_group_rays, out.groups);
+}
+
+// The rays of a group as a packet (lanes 0 .. count).
+Packet16 packet_of(const Ray* rays, std::uint32_t count) {
+    Packet16 p;
+    for (std::uint32_t i = 0; i < count; ++i) p.set_ray(int(i), rays[i]);
+    for (std::uint32_t i = count; i < 16; ++i) p.set_ray(int(i), Ray{{0, 0, 0}, 0.0f, {0, 0, 1}, 0.0f});
+    p.active = count >= 16 ? 0xFFFFu : (1u << count) - 1u;
+    return p;
+}
+
+template <bool kOcclusion, class Out>
+class StreamTrace {
+public:
+    StreamTrace(const KdTree::Impl& kd, const KdExperimental& x, const SortedStream& sorted, Out* out)
+        : kd_(kd),
+          context_{kd, kd.packet_tables(), x.triangle_culling},
+          root_(kdtree::root_start(kd)),
+          sorted_(sorted),
+          out_(out),
+          tolerance_(mlrta::reversal_tolerance(kd.bounds)) {}
+
+    template <bool kCount>
+    void groups(std::size_t begin, std::size_t end, QueryCounters* c) const {
+        for (std::size_t g = begin; g < end; ++g) group<kCount>(sorted_.groups[g], c);
+    }
+
+private:
+    template <bool kCount>
+    void group(const RayGroup& g, QueryCounters* c) const {
+        const std::uint32_t* order = sorted_.order.data() + g.begin;
+        const Ray* rays = sorted_.rays.data() + g.begin;
+        switch (g.kind) {
+            case RayGroup::Kind::no_segment:
+                for (std::uint32_t i = 0; i < g.count; ++i) write(order[i], Hit{});
+                return;
+            case RayGroup::Kind::single:
+                if constexpr (kCount) c->stream.single_rays += g.count;
+                for (std::uint32_t i = 0; i < g.count; ++i)
+                    write(order[i], kdtree::traverse_ray<kOcclusion, kCount>(kd_, rays[i], c));
+                return;
+            case RayGroup::Kind::pencil: {
+                if constexpr (kCount) {
+                    ++c->stream.pencil_packets;
+                    c->stream.pencil_rays += g.count;
+                }
+                Packet16 p = packet_of(rays, g.count);
+                if constexpr (kOcclusion) {
+                    Packet16 back;
+                    const Packet16& traced = mlrta::reverse_for_occlusion(p, tolerance_, back) ? back : p;
+                    std::uint32_t bits = 0;
+                    kdtree::trace_packet<true, kCount>(context_, traced, root_, nullptr, &bits, c);
+                    write_packet(order, g.count, nullptr, bits);
+                } else {
+                    PacketHits16 hits;
+                    kdtree::trace_packet<false, kCount>(context_, p, root_, &hits, nullptr, c);
+                    write_packet(order, g.count, &hits, 0);
+                }
+                return;
+            }
+            case RayGroup::Kind::origin: {
+                if constexpr (kCount) {
+                    ++c->stream.origin_groups;
+                    c->stream.origin_group_rays += g.count;
+                }
+                const Packet16 p = packet_of(rays, g.count);
+                PacketHits16 hits;
+                std::uint32_t bits = 0;
+                stream::trace_group<kOcclusion, kCount>(kd_, p, &hits, &bits, c);
+                write_packet(order, g.count, &hits, bits);
+                return;
+            }
+        }
+    }
+
+    void write(std::uint32_t index, const Hit& h) const {
+        if constexpr (kOcclusion)
+            out_[index] = h.hit();
+        else
+            out_[index] = h;
+    }
+
+    void write_packet(const std::uint32_t* order, std::uint32_t count, const PacketHits16* hits,
+                      std::uint32_t bits) const {
+        for (std::uint32_t i = 0; i < count; ++i) {
+            if constexpr (kOcclusion)
+                out_[order[i]] = std::uint8_t((bits >> i) & 1u);
+            else
+                out_[order[i]] = hits->hit(int(i));
+        }
+    }
+
+    const KdTree::Impl& kd_;
+    kdtree::PacketTraversalContext context_;
+    kdtree::TraversalStart root_;
+    const SortedStream& sorted_;
+    Out* out_;
+    double tolerance_;
+};
+
+template <bool kOcclusion, class Out>
+void trace_stream(const KdTree& tree, const StreamSettings& s, std::span<const Ray> rays, Out* out,
+                  const QueryOptions& options) {
+    if (!s.sort) {
+        if constexpr (kOcclusion)
+            tree.occluded(rays, std::span<std::uint8_t>(out, rays.size()), options);
+        else
+            tree.intersect(rays, std::span<Hit>(out, rays.size()), options);
+        if (options.counters) options.counters->stream.rays += rays.size();
+        return;
+    }
+    const KdTree::Impl& kd = detail::Access::impl(tree);
+    const auto start = std::chrono::steady_clock::now();
+    // The calling thread's buffers, kept from call to call (no fresh pages per call).
+    static thread_local SortedStream sorted;
+    sort_stream(kd, s, rays, kOcclusion, options, sorted, true);
+    const auto sorted_at = std::chrono::steady_clock::now();
+    const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, out);
+    run_query(sorted.groups.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
+        if (c)
+            trace.template groups<true>(b, e, c);
+        else
+            trace.template groups<false>(b, e, nullptr);
+    });
+    if (options.counters) {
+        options.counters->stream.rays += rays.size();
+        options.counters->stream.sort_nanoseconds +=
+            std::uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(sorted_at - start).count());
+    }
+}
+
+}  // namespace
+
+Hit StreamTracer::intersect(const Ray& ray) const { return tree_.intersect(ray); }
+bool StreamTracer::occluded(const Ray& ray) const { return tree_.occluded(ray); }
+
+void StreamTracer::intersect(std::span<const Ray> rays, std::span<Hit> hits, const QueryOptions& options) const {
+    check_query("StreamTracer::intersect", rays.size(), hits.size(), options);
+    trace_stream<false>(tree_, settings_, rays, hits.data(), options);
+}
+
+void StreamTracer::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded,
+                            const QueryOptions& options) const {
+    check_query("StreamTracer::occluded", rays.size(), occluded.size(), options);
+    trace_stream<true>(tree_, settings_, rays, occluded.data(), options);
+}
+
+void StreamTracer::intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits,
+                             const QueryOptions& options) const {
+    tree_.intersect(packets, hits, options);
+}
+
+void StreamTracer::occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded,
+                            const QueryOptions& options) const {
+    tree_.occluded(packets, occluded, options);
+}
+
+void StreamTracer::sorted_order(std::span<const Ray> rays, bool closest_hit, std::span<std::uint32_t> order,
+                                const QueryOptions& options) const {
+    check_query("StreamTracer::sorted_order", rays.size(), order.size(), options);
+    SortedStream sorted;
+    sort_stream(detail::Access::impl(tree_), settings_, rays, !closest_hit, options, sorted, true);
+    std::copy(sorted.order.begin(), sorted.order.end(), order.begin());
+}
+
+}  // namespace beamtrace
