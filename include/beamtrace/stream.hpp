@@ -59,12 +59,6 @@ public:
     void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded,
                   const QueryOptions& options = {}) const;
 
-    // The order a call traces `rays` in (order[k]: the input index of the k-th ray traced), for
-    // handing the same order to another tracer. closest_hit: the order of intersect(), else of
-    // occluded() (rays ending at a shared point are grouped for occlusion only).
-    void sorted_order(std::span<const Ray> rays, bool closest_hit, std::span<std::uint32_t> order,
-                      const QueryOptions& options = {}) const;
-
     const KdTree& tree() const { return tree_; }
     const StreamSettings& settings() const { return settings_; }
 
@@ -72,5 +66,12 @@ private:
     KdTree tree_;
     StreamSettings settings_;
 };
+
+// The order a StreamTracer with these settings over a scene with this box traces `rays` in
+// (order[k]: the input index of the k-th ray traced), for handing the same order to another tracer.
+// closest_hit: the order of intersect(), else of occluded() (rays ending at a shared point are
+// grouped for occlusion only). Throws beamtrace::Error when the spans differ in size.
+void stream_order(std::span<const Ray> rays, const Box& scene_bounds, bool closest_hit, std::span<std::uint32_t> order,
+                  const StreamSettings& settings = {}, const QueryOptions& options = {});
 
 }  // namespace beamtrace

@@ -58,9 +58,9 @@ void in_arena(int threads, F&& f) {
     arena.execute(f);
 }
 
-void sort_stream(const KdTree::Impl& kd, const StreamSettings& s, std::span<const Ray> rays, bool occlusion,
+void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray> rays, bool occlusion,
                  const QueryOptions& options, SortedStream& out, bool groups) {
-    stream::SharedPoints shared = stream::find_shared_points(rays, kd.bounds, s.sample_rays, s.shared_point_fraction,
+    stream::SharedPoints shared = stream::find_shared_points(rays, bounds, s.sample_rays, s.shared_point_fraction,
                                                              StreamSettings::kMaxSharedPoints);
     if (!occlusion) std::erase_if(shared.points, [](const stream::SharedPoint& p) { return p.ends; });
     out.keys.resize(rays.size());
@@ -68,7 +68,7 @@ void sort_stream(const KdTree::Impl& kd, const StreamSettings& s, std::span<cons
     out.sorted_keys.resize(rays.size());
     out.rays.resize(rays.size());
     run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
-        stream::make_keys(rays.subspan(b, e - b), kd.bounds, shared, std::span(out.keys).subspan(b, e - b));
+        stream::make_keys(rays.subspan(b, e - b), bounds, shared, std::span(out.keys).subspan(b, e - b));
     });
     in_arena(options.threads,
              [&] { stream::sort_by_key(out.keys, out.order, out.sorted_keys, options.threads, out.scratch); });
@@ -192,7 +192,7 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, std::span<const R
     const auto start = std::chrono::steady_clock::now();
     // The calling thread's buffers, kept from call to call (no fresh pages per call).
     static thread_local SortedStream sorted;
-    sort_stream(kd, s, rays, kOcclusion, options, sorted, true);
+    sort_stream(kd.scene.bounds(), s, rays, kOcclusion, options, sorted, true);
     const auto sorted_at = std::chrono::steady_clock::now();
     const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, out);
     run_query(sorted.groups.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
@@ -234,11 +234,16 @@ void StreamTracer::occluded(std::span<const Packet16> packets, std::span<std::ui
     tree_.occluded(packets, occluded, options);
 }
 
-void StreamTracer::sorted_order(std::span<const Ray> rays, bool closest_hit, std::span<std::uint32_t> order,
-                                const QueryOptions& options) const {
-    check_query("StreamTracer::sorted_order", rays.size(), order.size(), options);
+void stream_order(std::span<const Ray> rays, const Box& scene_bounds, bool closest_hit, std::span<std::uint32_t> order,
+                  const StreamSettings& settings, const QueryOptions& options) {
+    check_query("stream_order", rays.size(), order.size(), options);
+    settings.validate();
+    if (!settings.sort) {
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = std::uint32_t(i);
+        return;
+    }
     SortedStream sorted;
-    sort_stream(detail::Access::impl(tree_), settings_, rays, !closest_hit, options, sorted, true);
+    sort_stream(scene_bounds, settings, rays, !closest_hit, options, sorted, true);
     std::copy(sorted.order.begin(), sorted.order.end(), order.begin());
 }
 

@@ -19,6 +19,7 @@ struct BenchArgs {
     std::string mlrta_ep_search = "top-down";
     MlrtaSettings mlrta;
     VlfOptions vlf;
+    StreamSettings stream;
     std::string ao_dirs = "random";
     std::string vlf_order = "auto";
     KdBuildRules kd;
@@ -114,6 +115,12 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--vlf-order", args->vlf_order,
                     "vlf: trace rays as given (input), binned by PSF (psf), or binned for occlusion rays only (auto)")
         ->capture_default_str();
+    cmd->add_flag("--stream-sort,!--no-stream-sort", args->stream.sort,
+                  "stream: hash, sort and group the rays (default on; off: every ray alone in input order, the same "
+                  "answers)");
+    cmd->add_option("--stream-min-group", args->stream.min_group_rays,
+                    "stream: groups of fewer rays go ray by ray (2 .. 16)")
+        ->capture_default_str();
     cmd->add_option("--ao-dirs", args->ao_dirs,
                     "ao mode: random (stratified, cosine weighted) | psf (VLF-RT's --vlf-dirs directions)")
         ->capture_default_str();
@@ -159,6 +166,8 @@ std::function<void()> add_bench_command(CLI::App& app) {
                           : args->vlf_order == "psf" ? VlfOrder::psf
                                                      : VlfOrder::automatic;
         bo.engine_options.vlf = args->vlf;
+        args->stream.validate();
+        bo.engine_options.stream = args->stream;
         for (const std::string& e : bo.engines) workload::make_engine(e);  // reject unknown names before loading
         const workload::Workload w = workload::make_workload(wc);
         const workload::BenchResult result = workload::run_bench(w, bo);

@@ -15,6 +15,7 @@
 #include "beamtrace/kdtree.hpp"
 #include "beamtrace/mlrta.hpp"
 #include "beamtrace/scene.hpp"
+#include "beamtrace/stream.hpp"
 #include "beamtrace/vlf.hpp"
 #include "rays/ray_set.hpp"
 
@@ -25,6 +26,7 @@ struct EngineOptions {
     KdBuildRules kd_rules;
     MlrtaSettings mlrta;  // mlrta; kd16 reads mlrta.experimental.triangle_culling
     VlfOptions vlf;       // vlf, vlf-fast: directions, tiles, depth, eager, order (the mode is the engine's)
+    StreamSettings stream;  // stream, embree-sorted (its order)
     // embree1, embree16, embree-stream: build Embree's scene with RTC_SCENE_FLAG_ROBUST (the
     // watertight guarantee our engines give); off only to measure what Embree's fast mode gains.
     bool embree_robust = true;

@@ -13,6 +13,11 @@ std::unique_ptr<Engine> make_kd1_engine();
 std::unique_ptr<Engine> make_kd16_engine();
 std::unique_ptr<Engine> make_mlrta_engine();
 std::unique_ptr<Engine> make_vlf_engine(bool fast);
+std::unique_ptr<Engine> make_stream_engine();
+std::unique_ptr<Engine> make_embree_sorted_engine();
+
+// The kd-tree's build statistics (kd1, kd16, stream).
+nlohmann::json tree_json(const KdBuildStats& stats);
 
 // The statistics kd16 and mlrta report alike (the paper's Tables 2 and 3): cells, entry-point
 // cells and intersections per packet and the other packet counters; and MLRTA's settings.

@@ -1,29 +1,11 @@
 // kd1 (the kd-tree, one ray at a time), kd16 (4x4 packets by interval traversal from the root: the
 // paper's "no MLRT") and brute (every triangle, the reference).
 #include "beamtrace/error.hpp"
+#include "engines/active_rays.hpp"
 #include "engines/engine_registry.hpp"
 #include "engines/parallel.hpp"
 
 namespace beamtrace::workload {
-namespace {
-
-// The active rays side by side (for the span-of-rays queries) and their slots.
-struct ActiveRays {
-    std::vector<Ray> rays;
-    std::vector<std::uint32_t> slots;
-};
-ActiveRays active_rays(const RaySet& set) {
-    ActiveRays a;
-    a.rays.reserve(set.ray_count);
-    a.slots.reserve(set.ray_count);
-    for (std::size_t p = 0; p < set.packets.size(); ++p)
-        for (std::uint32_t m = set.packets[p].active & 0xFFFFu; m; m &= m - 1) {
-            const int i = __builtin_ctz(m);
-            a.rays.push_back(set.packets[p].ray(i));
-            a.slots.push_back(std::uint32_t(p * 16 + std::size_t(i)));
-        }
-    return a;
-}
 
 nlohmann::json tree_json(const KdBuildStats& s) {
     return {{"nodes", s.nodes},
@@ -38,6 +20,8 @@ nlohmann::json tree_json(const KdBuildStats& s) {
             {"flat_cell_splits", s.flat_cell_splits},
             {"tiny_cell_leaves", s.tiny_cell_leaves}};
 }
+
+namespace {
 
 class Kd1Engine : public Engine {
 public:
