@@ -41,8 +41,9 @@ SharedPoints find_shared_points(std::span<const Ray> rays, const Box& scene_box,
 int shared_point_of(const Ray& ray, const SharedPoints& shared);
 
 // The octahedral code of a direction: its unit-octahedron projection unfolded onto the square
-// [-1, 1]^2, quantised to 2^bits cells per side and interleaved (Morton); neighbouring directions get
-// neighbouring codes, with no seam.
+// [-1, 1]^2, quantised to 2^bits cells per side and interleaved (Morton). Neighbouring directions get
+// neighbouring cells everywhere but across the square's edges (the lower half's x = 0 and y = 0,
+// where the unfolding mirrors): no seam at the equator and no poles, unlike spherical angles.
 std::uint32_t octahedral_code(const Float3& dir, int bits);
 
 // The Morton code of a point's cell among 1024^3 cells of the box (points outside are clamped).

@@ -1,0 +1,131 @@
+// The masked group traversal answers every lane as the single-ray traversal does (its reference):
+// occlusion exactly, closest hits at the same distance bit for bit (the same triangle, or another at
+// exactly that distance), on scenes shaped to reach the kd-tree's special cases: one-origin groups
+// (what the stream tracer makes), scattered rays, rays inside split planes, inactive lanes and rays
+// that describe no segment.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "beamtrace/kdtree.hpp"
+#include "common/access.hpp"
+#include "kdtree/ray_traversal.hpp"
+#include "stream/group_traversal.hpp"
+#include "../kdtree/test_scenes.hpp"
+
+using namespace beamtrace;
+
+namespace {
+
+// Groups of 16 rays from the rays given: one-origin groups (each ray's origin with the next 15
+// rays' directions), the rays as they come, and both with lanes switched off.
+std::vector<Packet16> groups_of(const std::vector<Ray>& rays, unsigned seed) {
+    std::mt19937 random(seed);
+    std::vector<Packet16> groups;
+    for (std::size_t b = 0; b + 16 <= rays.size(); b += 16) {
+        Packet16 same, mixed;
+        for (int i = 0; i < 16; ++i) {
+            Ray r = rays[b + std::size_t(i)];
+            mixed.set_ray(i, r);
+            r.org = rays[b].org;
+            same.set_ray(i, r);
+        }
+        same.active = mixed.active = 0xFFFFu;
+        groups.push_back(same);
+        groups.push_back(mixed);
+        same.active = mixed.active = random() & 0xFFFFu;
+        groups.push_back(same);
+        groups.push_back(mixed);
+    }
+    return groups;
+}
+
+void expect_single_ray_answers(const KdTree& tree, const std::vector<Packet16>& groups, const std::string& what) {
+    const KdTree::Impl& kd = detail::Access::impl(tree);
+    int compared = 0, hits = 0;
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+        const Packet16& p = groups[g];
+        PacketHits16 got;
+        std::uint32_t occluded = 0xDEADu;
+        stream::trace_group<false, false>(kd, p, &got, nullptr, nullptr);
+        stream::trace_group<true, false>(kd, p, nullptr, &occluded, nullptr);
+        QueryCounters counters;
+        PacketHits16 counted;
+        std::uint32_t counted_occluded = 0;
+        stream::trace_group<false, true>(kd, p, &counted, nullptr, &counters);
+        stream::trace_group<true, true>(kd, p, nullptr, &counted_occluded, &counters);
+        EXPECT_EQ(counted_occluded, occluded) << what << " group " << g;
+        for (int i = 0; i < 16; ++i) {
+            const bool on = (p.active >> i) & 1u;
+            const Ray r = p.ray(i);
+            const Hit want = on ? kdtree::intersect_one(kd, r) : Hit{};
+            const bool want_occluded = on && kdtree::occluded_one(kd, r);
+            const Hit h = got.hit(i);
+            ASSERT_EQ(((occluded >> i) & 1u) != 0, want_occluded) << what << " group " << g << " lane " << i;
+            ASSERT_EQ(h.hit(), want.hit()) << what << " group " << g << " lane " << i;
+            ASSERT_EQ(counted.hit(i).triangle, h.triangle);
+            if (!want.hit()) continue;
+            ++hits;
+            ASSERT_EQ(h.t, want.t) << what << " group " << g << " lane " << i;
+            if (h.triangle == want.triangle) {
+                EXPECT_EQ(h.u, want.u);
+                EXPECT_EQ(h.v, want.v);
+            }
+            ++compared;
+        }
+    }
+    EXPECT_GT(compared, 0) << what;
+    EXPECT_GT(hits, 0) << what;
+}
+
+}  // namespace
+
+TEST(StreamGroupTraversal, AnswersAsTheSingleRayTraversalOnSoup) {
+    const Scene scene = test::random_soup(3000, 1);
+    const KdTree tree = KdTree::build(scene);
+    expect_single_ray_answers(tree, groups_of(test::random_rays(scene.bounds(), 4000, 2), 3), "soup");
+}
+
+TEST(StreamGroupTraversal, AnswersAsTheSingleRayTraversalInABoxedRoom) {
+    const Scene scene = test::stacked_boxes(60, 4);
+    const KdTree tree = KdTree::build(scene);
+    expect_single_ray_answers(tree, groups_of(test::random_rays(scene.bounds(), 4000, 5), 6), "boxes");
+    // Rays in split planes, with zero and -0 direction components.
+    expect_single_ray_answers(tree, groups_of(test::axis_rays(scene, 4000, 7), 8), "boxes, axis rays");
+}
+
+TEST(StreamGroupTraversal, AnswersAsTheSingleRayTraversalOnAPlane) {
+    const Scene scene = test::single_plane(24);
+    const KdTree tree = KdTree::build(scene);
+    expect_single_ray_answers(tree, groups_of(test::axis_rays(scene, 2000, 9), 10), "plane, axis rays");
+    expect_single_ray_answers(tree, groups_of(test::random_rays(scene.bounds(), 2000, 11), 12), "plane");
+}
+
+TEST(StreamGroupTraversal, RaysThatDescribeNoSegmentReportNothing) {
+    const Scene scene = test::random_soup(500, 13);
+    const KdTree tree = KdTree::build(scene);
+    const KdTree::Impl& kd = detail::Access::impl(tree);
+    std::vector<Ray> rays = test::random_rays(scene.bounds(), 16, 14);
+    rays[0].dir = Float3{0, 0, 0};
+    rays[1].org.x = NAN;
+    rays[2].tnear = 5.0f;
+    rays[2].tfar = 1.0f;
+    rays[3].dir.y = INFINITY;
+    Packet16 p;
+    for (int i = 0; i < 16; ++i) p.set_ray(i, rays[std::size_t(i)]);
+    p.active = 0xFFFFu;
+    PacketHits16 hits;
+    std::uint32_t occluded = 0;
+    stream::trace_group<false, false>(kd, p, &hits, nullptr, nullptr);
+    stream::trace_group<true, false>(kd, p, nullptr, &occluded, nullptr);
+    for (int i = 0; i < 4; ++i) {
+        EXPECT_FALSE(hits.hit(i).hit()) << i;
+        EXPECT_EQ((occluded >> i) & 1u, 0u) << i;
+    }
+    for (int i = 4; i < 16; ++i) {
+        EXPECT_EQ(hits.hit(i).triangle, kdtree::intersect_one(kd, p.ray(i)).triangle);
+        EXPECT_EQ(((occluded >> i) & 1u) != 0, kdtree::occluded_one(kd, p.ray(i)));
+    }
+}

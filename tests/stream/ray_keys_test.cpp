@@ -1,0 +1,117 @@
+// Ray keys: the octahedral direction code has no seam, Morton cells order space, shared points are
+// found (a camera's origin, a light the rays end at) and only they.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "stream/ray_keys.hpp"
+
+using namespace beamtrace;
+using namespace beamtrace::stream;
+
+namespace {
+
+Box unit_box() {
+    Box b;
+    b.extend(Float3{0, 0, 0});
+    b.extend(Float3{1, 1, 1});
+    return b;
+}
+
+// Cell coordinates (u, v) of an octahedral code (de-interleaved).
+std::pair<int, int> cells_of(std::uint32_t code) {
+    int u = 0, v = 0;
+    for (int b = 0; b < 16; ++b) {
+        u |= int((code >> (2 * b)) & 1u) << b;
+        v |= int((code >> (2 * b + 1)) & 1u) << b;
+    }
+    return {u, v};
+}
+
+}  // namespace
+
+TEST(StreamKeys, OctahedralCodeIsContinuousButAtTheSquaresEdges) {
+    // Directions a hair apart land in cells at most one apart everywhere on the sphere, across the
+    // fold (z = 0) and the x, y sign changes of the upper half too; only the unfolded square's edges
+    // (x = 0 or y = 0 with z < 0, mirrored there) part neighbours.
+    std::mt19937 random(3);
+    std::normal_distribution<float> gauss;
+    int far_apart = 0;
+    for (int i = 0; i < 20000; ++i) {
+        Float3 d{gauss(random), gauss(random), gauss(random)};
+        if (i % 4 == 0) d.z = 1e-7f * gauss(random);  // near the fold
+        const Float3 e{d.x + 1e-5f * gauss(random), d.y + 1e-5f * gauss(random), d.z + 1e-5f * gauss(random)};
+        const float l = std::fabs(d.x) + std::fabs(d.y) + std::fabs(d.z);
+        if ((d.z < 0.0f || e.z < 0.0f) && (std::fabs(d.x) < 1e-3f * l || std::fabs(d.y) < 1e-3f * l)) continue;
+        const auto [u0, v0] = cells_of(octahedral_code(d, 8));
+        const auto [u1, v1] = cells_of(octahedral_code(e, 8));
+        // Across the fold the unfolded square mirrors at its edge: cells stay neighbours there too.
+        if (std::abs(u0 - u1) > 1 || std::abs(v0 - v1) > 1) ++far_apart;
+    }
+    EXPECT_EQ(far_apart, 0);
+}
+
+TEST(StreamKeys, OctahedralCodeSeparatesOppositeDirections) {
+    EXPECT_NE(octahedral_code({0, 0, 1}, 8), octahedral_code({0, 0, -1}, 8));
+    EXPECT_NE(octahedral_code({1, 0, 0}, 8), octahedral_code({-1, 0, 0}, 8));
+    EXPECT_NE(octahedral_code({0, 1, 0}, 8), octahedral_code({0, -1, 0}, 8));
+}
+
+TEST(StreamKeys, MortonCellsOfEqualPointsAreEqualAndOfFarPointsDiffer) {
+    const Box b = unit_box();
+    EXPECT_EQ(morton_cell({0.3f, 0.4f, 0.5f}, b), morton_cell({0.3f, 0.4f, 0.5f}, b));
+    EXPECT_NE(morton_cell({0.1f, 0.4f, 0.5f}, b), morton_cell({0.9f, 0.4f, 0.5f}, b));
+    EXPECT_EQ(morton_cell({-5.0f, -5.0f, -5.0f}, b), 0u);  // outside: clamped
+    EXPECT_EQ(morton_cell({5.0f, 5.0f, 5.0f}, b), (1u << 30) - 1u);
+    EXPECT_EQ(morton_cell({NAN, 0.5f, 0.5f}, b) & 1u, 0u);  // NaN: the lowest cell on that axis
+}
+
+TEST(StreamKeys, FindsTheCameraAndTheLightsAndNothingElse) {
+    const Box b = unit_box();
+    std::mt19937 random(5);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const Float3 camera{0.5f, 0.5f, -1.0f}, light_a{0.2f, 0.9f, 0.5f}, light_b{0.8f, 0.9f, 0.5f};
+    std::vector<Ray> rays;
+    for (int i = 0; i < 3000; ++i) {
+        const Float3 p{u(random), u(random), u(random)};
+        switch (i % 4) {
+            case 0:  // primary: from the camera
+                rays.push_back(Ray{camera, 0.0f, p - camera, kInfinity});
+                break;
+            case 1:  // shadow rays ending just before light a
+                rays.push_back(Ray{p, 0.0f, light_a - p, 1.0f - 1e-4f});
+                break;
+            case 2:  // and b
+                rays.push_back(Ray{p, 0.0f, light_b - p, 1.0f - 1e-4f});
+                break;
+            default:  // scattered rays
+                rays.push_back(Ray{p, 0.0f, Float3{u(random) - 0.5f, u(random) - 0.5f, u(random) - 0.5f}, 0.1f});
+        }
+    }
+    const SharedPoints shared = find_shared_points(rays, b, 4096, 0.01f, 16);
+    ASSERT_EQ(shared.points.size(), 3u);
+    int origins = 0, ends = 0;
+    for (const SharedPoint& p : shared.points) (p.ends ? ends : origins)++;
+    EXPECT_EQ(origins, 1);
+    EXPECT_EQ(ends, 2);
+    std::vector<std::uint32_t> keys(rays.size());
+    make_keys(rays, b, shared, keys);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const bool pencil = (keys[i] & kPencilBit) != 0;
+        EXPECT_EQ(pencil, i % 4 != 3) << "ray " << i;
+    }
+}
+
+TEST(StreamKeys, RaysThatDescribeNoSegmentGetTheirOwnKey) {
+    const Box b = unit_box();
+    const std::vector<Ray> rays = {Ray{{0, 0, 0}, 0.0f, {0, 0, 0}, 1.0f}, Ray{{NAN, 0, 0}, 0.0f, {1, 0, 0}, 1.0f},
+                                   Ray{{0, 0, 0}, 2.0f, {1, 0, 0}, 1.0f}, Ray{{0, 0, 0}, 0.0f, {1, 0, 0}, 1.0f}};
+    std::vector<std::uint32_t> keys(rays.size());
+    make_keys(rays, b, SharedPoints{}, keys);
+    EXPECT_EQ(keys[0], kNoSegmentKey);
+    EXPECT_EQ(keys[1], kNoSegmentKey);
+    EXPECT_EQ(keys[2], kNoSegmentKey);
+    EXPECT_NE(keys[3], kNoSegmentKey);
+}

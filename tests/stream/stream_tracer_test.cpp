@@ -1,0 +1,206 @@
+// Whole streams: the stream tracer answers every ray as the kd-tree does, whatever the order the
+// rays come in, on one thread or two, sorted or not; it rejects bad input with a message.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include "beamtrace/error.hpp"
+#include "beamtrace/stream.hpp"
+#include "common/triangle_reference.hpp"
+#include "common/watertight_ray.hpp"
+#include "../kdtree/test_scenes.hpp"
+
+using namespace beamtrace;
+
+namespace {
+
+// A stream as an integrator hands it over: primary rays from a camera, ambient-occlusion rays (16
+// from each of a number of points), shadow rays towards two lights, scattered rays, and a few rays
+// that describe no segment; shuffled.
+std::vector<Ray> mixed_stream(const Scene& scene, unsigned seed) {
+    std::mt19937 random(seed);
+    const Box b = scene.bounds();
+    const Float3 e = b.extent();
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    auto inside = [&] { return Float3{b.lower.x + e.x * u(random), b.lower.y + e.y * u(random), b.lower.z + e.z * u(random)}; };
+    auto direction = [&] { return Float3{u(random) - 0.5f, u(random) - 0.5f, u(random) - 0.5f}; };
+    std::vector<Ray> rays;
+    const Float3 camera = b.lower - e * 0.3f;
+    for (int i = 0; i < 1500; ++i) rays.push_back(Ray{camera, 0.0f, inside() - camera, kInfinity});
+    const float reach = 0.2f * std::sqrt(dot(e, e));
+    for (int p = 0; p < 150; ++p) {
+        const Float3 o = inside();
+        for (int i = 0; i < 16; ++i) {
+            const Float3 d = direction();
+            rays.push_back(Ray{o, 0.0f, d * (1.0f / std::sqrt(dot(d, d))), reach});
+        }
+    }
+    const Float3 lights[2] = {inside(), inside()};
+    for (int i = 0; i < 1600; ++i) {
+        const Float3 o = inside();
+        rays.push_back(Ray{o, 0.0f, lights[i % 2] - o, 1.0f - 1e-4f});
+    }
+    for (int i = 0; i < 1000; ++i) rays.push_back(Ray{inside(), 0.0f, direction(), kInfinity});
+    rays.push_back(Ray{camera, 0.0f, {0, 0, 0}, 1.0f});
+    rays.push_back(Ray{{NAN, 0, 0}, 0.0f, {1, 0, 0}, 1.0f});
+    rays.push_back(Ray{camera, 3.0f, {1, 0, 0}, 1.0f});
+    std::shuffle(rays.begin(), rays.end(), random);
+    return rays;
+}
+
+// Whether the ray hits the triangle exactly at t (the watertight reference).
+bool hits_at(const Scene& scene, const Ray& ray, std::uint32_t triangle, float t) {
+    TriangleHit h;
+    return intersect_triangle(make_watertight_ray(ray), scene.triangle(triangle), h) && h.t == t;
+}
+
+// got[i] is want[i], or a hit on another triangle at exactly the same distance.
+void expect_same_hits(const Scene& scene, const std::vector<Ray>& rays, const std::vector<Hit>& got,
+                      const std::vector<Hit>& want, const std::string& what) {
+    int hits = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        ASSERT_EQ(got[i].hit(), want[i].hit()) << what << " ray " << i;
+        if (!want[i].hit()) continue;
+        ++hits;
+        ASSERT_EQ(got[i].t, want[i].t) << what << " ray " << i;
+        if (got[i].triangle != want[i].triangle) {
+            EXPECT_TRUE(hits_at(scene, rays[i], got[i].triangle, got[i].t)) << what << " ray " << i;
+        } else {
+            EXPECT_EQ(got[i].u, want[i].u);
+            EXPECT_EQ(got[i].v, want[i].v);
+        }
+    }
+    EXPECT_GT(hits, 100) << what;
+}
+
+struct Answers {
+    std::vector<Hit> hits;
+    std::vector<std::uint8_t> occluded;
+};
+
+Answers answers(const StreamTracer& tracer, const std::vector<Ray>& rays, const QueryOptions& options = {}) {
+    Answers a{std::vector<Hit>(rays.size()), std::vector<std::uint8_t>(rays.size())};
+    tracer.intersect(rays, a.hits, options);
+    tracer.occluded(rays, a.occluded, options);
+    return a;
+}
+
+class StreamTracerScenes : public ::testing::TestWithParam<int> {
+protected:
+    Scene scene() const {
+        switch (GetParam()) {
+            case 0:
+                return test::random_soup(4000, 21);
+            case 1:
+                return test::stacked_boxes(80, 22);
+            default:
+                return test::single_plane(20);
+        }
+    }
+};
+
+}  // namespace
+
+TEST_P(StreamTracerScenes, AnswersAsTheKdTree) {
+    const Scene s = scene();
+    const KdTree tree = KdTree::build(s);
+    const std::vector<Ray> rays = mixed_stream(s, 30 + unsigned(GetParam()));
+    std::vector<Hit> want(rays.size());
+    std::vector<std::uint8_t> want_occluded(rays.size());
+    tree.intersect(rays, want);
+    tree.occluded(rays, want_occluded);
+    const StreamTracer tracer(tree);
+    QueryCounters counters;
+    const Answers got = answers(tracer, rays, QueryOptions{1, &counters});
+    expect_same_hits(s, rays, got.hits, want, "sorted");
+    EXPECT_EQ(got.occluded, want_occluded);
+    // The stream was grouped: one-origin groups, pencils through the camera and the lights.
+    EXPECT_GT(counters.stream.origin_groups, 0u);
+    EXPECT_GT(counters.stream.pencil_packets, 0u);
+    EXPECT_EQ(counters.stream.rays, 2 * rays.size());
+    EXPECT_LE(counters.stream.origin_group_rays + counters.stream.pencil_rays + counters.stream.single_rays,
+              2 * rays.size());
+    // The same answers on two threads and unsorted.
+    const Answers two = answers(tracer, rays, QueryOptions{2, nullptr});
+    expect_same_hits(s, rays, two.hits, want, "two threads");
+    EXPECT_EQ(two.occluded, want_occluded);
+    StreamSettings unsorted;
+    unsorted.sort = false;
+    const Answers plain = answers(StreamTracer(tree, unsorted), rays);
+    expect_same_hits(s, rays, plain.hits, want, "unsorted");
+    EXPECT_EQ(plain.occluded, want_occluded);
+}
+
+TEST_P(StreamTracerScenes, AnswersDoNotDependOnTheInputOrder) {
+    const Scene s = scene();
+    const KdTree tree = KdTree::build(s);
+    const StreamTracer tracer(tree);
+    const std::vector<Ray> rays = mixed_stream(s, 40 + unsigned(GetParam()));
+    const Answers first = answers(tracer, rays);
+    for (unsigned seed : {1u, 2u}) {
+        std::vector<std::size_t> perm(rays.size());
+        std::iota(perm.begin(), perm.end(), std::size_t{0});
+        std::mt19937 random(seed);
+        std::shuffle(perm.begin(), perm.end(), random);
+        if (seed == 2) std::reverse(perm.begin(), perm.end());
+        std::vector<Ray> reordered(rays.size());
+        for (std::size_t i = 0; i < rays.size(); ++i) reordered[i] = rays[perm[i]];
+        const Answers again = answers(tracer, reordered);
+        std::vector<Hit> back(rays.size());
+        std::vector<std::uint8_t> back_occluded(rays.size());
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            back[perm[i]] = again.hits[i];
+            back_occluded[perm[i]] = again.occluded[i];
+        }
+        expect_same_hits(s, rays, back, first.hits, "reordered");
+        EXPECT_EQ(back_occluded, first.occluded);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, StreamTracerScenes, ::testing::Values(0, 1, 2));
+
+TEST(StreamTracer, RejectsBadInputWithAMessage) {
+    const KdTree tree = KdTree::build(test::random_soup(100, 50));
+    const StreamTracer tracer(tree);
+    std::vector<Ray> rays(10, Ray{{0, 0, 0}, 0.0f, {1, 0, 0}, 1.0f});
+    std::vector<Hit> hits(9);
+    EXPECT_THROW(tracer.intersect(rays, hits), Error);
+    std::vector<std::uint8_t> occluded(10);
+    EXPECT_THROW(tracer.occluded(rays, occluded, QueryOptions{0, nullptr}), Error);
+    StreamSettings bad;
+    bad.min_group_rays = 1;
+    EXPECT_THROW(StreamTracer(tree, bad), Error);
+    bad = StreamSettings{};
+    bad.shared_point_fraction = 0.0f;
+    EXPECT_THROW(StreamTracer(tree, bad), Error);
+    std::vector<std::uint32_t> order(3);
+    EXPECT_THROW(stream_order(rays, tree.scene().bounds(), true, order), Error);
+}
+
+TEST(StreamTracer, StreamOrderIsAPermutation) {
+    const Scene s = test::stacked_boxes(20, 51);
+    const std::vector<Ray> rays = mixed_stream(s, 52);
+    std::vector<std::uint32_t> order(rays.size());
+    stream_order(rays, s.bounds(), false, order);
+    std::vector<std::uint32_t> sorted = order;
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t i = 0; i < sorted.size(); ++i) ASSERT_EQ(sorted[i], i);
+}
+
+TEST(StreamTracer, EmptyStreamsAndSingleRays) {
+    const Scene s = test::random_soup(300, 53);
+    const KdTree tree = KdTree::build(s);
+    const StreamTracer tracer(tree);
+    std::vector<Ray> none;
+    std::vector<Hit> no_hits;
+    tracer.intersect(none, no_hits);
+    const std::vector<Ray> rays = test::random_rays(s.bounds(), 50, 54);
+    for (const Ray& r : rays) {
+        EXPECT_EQ(tracer.intersect(r).triangle, tree.intersect(r).triangle);
+        EXPECT_EQ(tracer.occluded(r), tree.occluded(r));
+    }
+}
