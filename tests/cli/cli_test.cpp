@@ -127,8 +127,8 @@ namespace {
 nlohmann::json bench_json(const std::string& args, std::string* output = nullptr) {
     const fs::path json = temp_dir() / "workload.json";
     fs::remove(json);
-    const CommandResult r = run("bench --scene tetra:3 --width 32 --height 32 --repeats 1 --engines kd1,mlrta " +
-                                args + " --json " + json.string());
+    const CommandResult r = run("bench --scene tetra:3 --width 32 --height 32 --repeats 1 --engines kd1,mlrta " + args +
+                                " --json " + json.string());
     EXPECT_EQ(r.exit_code, 0) << args << ": " << r.output;
     if (output) *output = r.output;
     std::ifstream in(json);
@@ -172,9 +172,10 @@ TEST(Cli, BenchJsonNamesTheWorkload) {
     EXPECT_EQ(j["area_light"], false);
     // A markdown file names the workload too.
     const fs::path md = temp_dir() / "workload.md";
-    const CommandResult r = run("bench --scene tetra:2 --width 16 --height 16 --repeats 1 --engines kd1 "
-                                "--no-anchor-engines --mode ao --ao-rays 4 --order shuffled --markdown " +
-                                md.string());
+    const CommandResult r =
+        run("bench --scene tetra:2 --width 16 --height 16 --repeats 1 --engines kd1 "
+            "--no-anchor-engines --mode ao --ao-rays 4 --order shuffled --markdown " +
+            md.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(file_bytes(md).find("mode ao, order shuffled"), std::string::npos) << file_bytes(md);
 }

@@ -58,7 +58,7 @@ TEST_P(Differential, EnginesAgreeWithEmbree) {
         int lights = 0;
         bool area = false;
     };
-    const RayCase ray_cases[] = {{Mode::primary}, {Mode::shadow}, {Mode::ao},
+    const RayCase ray_cases[] = {{Mode::primary}, {Mode::shadow},    {Mode::ao},
                                  {Mode::diffuse}, {Mode::shadow, 3}, {Mode::shadow, 0, true}};
     bool own_camera = true;  // cameras_for() gives the scene's own camera first
     for (const auto& [camera_name, camera] : test::cameras_for(source)) {
@@ -76,9 +76,9 @@ TEST_P(Differential, EnginesAgreeWithEmbree) {
                 const Workload w = make_workload(source, config);
                 const std::string what = describe_rays(c.mode, order, point_lights(w), c.area);
                 for (std::size_t i = 0; i < engines.size(); ++i)
-                    test::expect_no_mismatch(check_against_oracle(*engines[i], w, 2),
-                                             engines[i]->name() + "#" + std::to_string(i) + " " + camera_name + " " +
-                                                 what);
+                    test::expect_no_mismatch(
+                        check_against_oracle(*engines[i], w, 2),
+                        engines[i]->name() + "#" + std::to_string(i) + " " + camera_name + " " + what);
             }
         own_camera = false;
     }

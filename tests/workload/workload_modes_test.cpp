@@ -36,7 +36,7 @@ scenes::SceneSource quad_scene() {
 }
 
 Workload make(const std::string& scene, Mode mode, int size, Order order = Order::input, int lights = 0,
-                  bool area = false) {
+              bool area = false) {
     WorkloadConfig config;
     config.scene = scene;
     config.mode = mode;
@@ -58,7 +58,8 @@ std::map<std::uint32_t, std::size_t> primary_slots(const Workload& w) {
 
 std::size_t primary_hit_count(const Workload& w) {
     std::size_t n = 0;
-    for (std::size_t slot = 0; slot < w.primary.slots(); ++slot) n += w.primary.active(slot) && w.primary_hits[slot].hit();
+    for (std::size_t slot = 0; slot < w.primary.slots(); ++slot)
+        n += w.primary.active(slot) && w.primary_hits[slot].hit();
     return n;
 }
 
@@ -251,7 +252,8 @@ TEST(WorkloadModes, EachHitGetsOneRayPerLightInConsecutiveLanes) {
                 }
                 EXPECT_EQ(w.rays.pixel[slot], pixel);
                 const Ray r = w.rays.ray(slot);
-                EXPECT_LT(length(r.org + r.dir - w.lights.points[std::size_t(i)]), eps) << "ray " << i << " to light " << i;
+                EXPECT_LT(length(r.org + r.dir - w.lights.points[std::size_t(i)]), eps)
+                    << "ray " << i << " to light " << i;
                 EXPECT_FLOAT_EQ(r.tfar, 1.0f - 1e-4f);
             }
             if (n == 16) {
@@ -303,8 +305,8 @@ TEST(WorkloadModes, ShuffledRaysAreAPermutationOfTheInputRays) {
     };
     for (const Case c : {Case{Mode::primary, 0, false}, Case{Mode::shadow, 0, false}, Case{Mode::shadow, 3, false},
                          Case{Mode::shadow, 0, true}, Case{Mode::ao, 0, false}, Case{Mode::diffuse, 0, false}}) {
-        const std::string what = std::string(to_string(c.mode)) + " lights " + std::to_string(c.lights) +
-                                 (c.area ? " area" : "");
+        const std::string what =
+            std::string(to_string(c.mode)) + " lights " + std::to_string(c.lights) + (c.area ? " area" : "");
         const Workload in = make("tetra:3", c.mode, 24, Order::input, c.lights, c.area);
         const Workload sh = make("tetra:3", c.mode, 24, Order::shuffled, c.lights, c.area);
         EXPECT_EQ(sh.order, Order::shuffled);

@@ -44,8 +44,9 @@ std::string trade_header(const workload::TradeResult& r) {
     std::snprintf(buf, sizeof buf,
                   "scene %s (%zu triangles), %s, %dx%d, %d thread%s, %zu rays; per setting the best of at least "
                   "%d passes and %g s (each pass followed by one of embree16)\n",
-                  r.scene.c_str(), r.triangles, workload::describe_rays(r.mode, r.order, r.lights, r.area_light).c_str(), r.width, r.height, r.threads,
-                  r.threads == 1 ? "" : "s", r.rays, r.repeats, r.min_seconds);
+                  r.scene.c_str(), r.triangles,
+                  workload::describe_rays(r.mode, r.order, r.lights, r.area_light).c_str(), r.width, r.height,
+                  r.threads, r.threads == 1 ? "" : "s", r.rays, r.repeats, r.min_seconds);
     std::string header = buf;
     if (const workload::TradeRow* a = r.anchor()) {
         std::snprintf(buf, sizeof buf,

@@ -129,10 +129,9 @@ report::Image render_picture(const Engine& engine, const Scene& scene, const sce
                 if (escaped) paint(rays.pixel[s], *escaped);
                 continue;
             }
-            paint(rays.pixel[s],
-                  o.shade == Shade::depth
-                      ? report::heat_color(1.0 - (closest[s].t - lo) / std::max(hi - lo, 1e-30f))
-                      : report::normal_color(surface_point(scene, rays.ray(s), closest[s]).normal));
+            paint(rays.pixel[s], o.shade == Shade::depth
+                                     ? report::heat_color(1.0 - (closest[s].t - lo) / std::max(hi - lo, 1e-30f))
+                                     : report::normal_color(surface_point(scene, rays.ray(s), closest[s]).normal));
         }
     };
     switch (config.mode) {

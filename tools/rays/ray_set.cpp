@@ -368,7 +368,8 @@ Float3 UpperBox::up() const {
 }
 
 UpperBox upper_box(const Box& bounds, Float3 up) {
-    if (bounds.empty() || !(bounds.diagonal() < kInfinity)) throw Error("lights: the scene's box is empty or unbounded");
+    if (bounds.empty() || !(bounds.diagonal() < kInfinity))
+        throw Error("lights: the scene's box is empty or unbounded");
     UpperBox u;
     int axis = 1;  // y, then z, then x on ties
     for (int k : {2, 0})

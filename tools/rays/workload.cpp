@@ -36,9 +36,11 @@ void WorkloadConfig::validate() const {
     if (lights != 0) {
         if (lights < 1 || lights > 4096) throw Error("--lights must be between 1 and 4096");
         if (light)
-            throw Error("--lights and --light cannot be used together: --lights N spreads N lights over the scene's "
-                        "upper box, --light X,Y,Z places one");
-        if (area_light) throw Error("--area-light and --lights cannot be used together: the shadow rays go to one or the other");
+            throw Error(
+                "--lights and --light cannot be used together: --lights N spreads N lights over the scene's "
+                "upper box, --light X,Y,Z places one");
+        if (area_light)
+            throw Error("--area-light and --lights cannot be used together: the shadow rays go to one or the other");
         if (mode != Mode::shadow)
             throw Error("--lights applies to shadow rays only (--mode shadow), not to --mode " + mode_name);
     }

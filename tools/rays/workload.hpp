@@ -23,8 +23,9 @@ struct WorkloadConfig {
     // Shadow mode only: 0 = one light (`light`); N >= 1 = N lights spread over the upper box
     // (spread_lights), N rays per primary hit.
     int lights = 0;
-    bool area_light = false;     // shadow mode only: one ray per primary hit to a point of area_light()
-    Order order = Order::input;  // of the rays of `mode` (the primary rays secondary rays start from stay in image order)
+    bool area_light = false;  // shadow mode only: one ray per primary hit to a point of area_light()
+    // Of the rays of `mode` (the primary rays that secondary rays start from stay in image order).
+    Order order = Order::input;
 
     // Throws beamtrace::Error naming the options that do not go together (--lights with --light,
     // --area-light with either, --lights or --area-light outside shadow mode) or are out of range.
@@ -33,9 +34,10 @@ struct WorkloadConfig {
 
 // Where a workload's shadow rays go: one point light, several, or the area light.
 struct ShadowLights {
-    std::vector<Float3> points;        // one or more point lights (empty with the area light)
-    std::optional<AreaLight> area;     // with --area-light
-    int count() const { return area ? 0 : int(points.size()); }  // point lights
+    std::vector<Float3> points;     // one or more point lights (empty with the area light)
+    std::optional<AreaLight> area;  // with --area-light
+    // The point lights: 0 with the area light.
+    int count() const { return area ? 0 : int(points.size()); }
 };
 // The lights of the config's shadow rays, for a scene's box and camera (the single light defaults
 // to default_light(); the upper box is taken along the camera's up).
