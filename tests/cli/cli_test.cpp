@@ -3,6 +3,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -115,5 +119,108 @@ TEST(Cli, RenderWritesAPng) {
         char sig[8] = {};
         in.read(sig, 8);
         EXPECT_EQ(std::string(sig + 1, 3), "PNG") << shade;
+    }
+}
+
+namespace {
+
+nlohmann::json bench_json(const std::string& args, std::string* output = nullptr) {
+    const fs::path json = temp_dir() / "workload.json";
+    fs::remove(json);
+    const CommandResult r = run("bench --scene tetra:3 --width 32 --height 32 --repeats 1 --engines kd1,mlrta " + args +
+                                " --json " + json.string());
+    EXPECT_EQ(r.exit_code, 0) << args << ": " << r.output;
+    if (output) *output = r.output;
+    std::ifstream in(json);
+    return nlohmann::json::parse(in);
+}
+
+std::string file_bytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+TEST(Cli, BenchJsonNamesTheWorkload) {
+    std::string output;
+    nlohmann::json j = bench_json("--mode shadow --lights 4 --order shuffled", &output);
+    EXPECT_EQ(j["mode"], "shadow");
+    EXPECT_EQ(j["order"], "shuffled");
+    EXPECT_EQ(j["lights"], 4);
+    EXPECT_EQ(j["area_light"], false);
+    EXPECT_NE(output.find("mode shadow (4 lights), order shuffled"), std::string::npos) << output;
+    for (const char* e : {"kd1", "mlrta", "embree1", "embree16", "embree-stream"})
+        EXPECT_EQ(j["engines"][e]["oracle"]["mismatch"], 0) << e;
+
+    j = bench_json("--mode shadow --area-light");
+    EXPECT_EQ(j["order"], "input");
+    EXPECT_EQ(j["lights"], 0);
+    EXPECT_EQ(j["area_light"], true);
+    EXPECT_EQ(j["engines"]["mlrta"]["oracle"]["mismatch"], 0);
+
+    j = bench_json("--mode diffuse --order shuffled");
+    EXPECT_EQ(j["mode"], "diffuse");
+    EXPECT_EQ(j["lights"], 0);
+    EXPECT_EQ(j["area_light"], false);
+    EXPECT_EQ(j["engines"]["kd1"]["oracle"]["mismatch"], 0);
+    EXPECT_EQ(j["engines"]["kd1"]["hits"], j["engines"]["embree1"]["hits"]);
+
+    j = bench_json("--mode shadow");  // the old workload, unchanged: one light, image order
+    EXPECT_EQ(j["order"], "input");
+    EXPECT_EQ(j["lights"], 1);
+    EXPECT_EQ(j["area_light"], false);
+    // A markdown file names the workload too.
+    const fs::path md = temp_dir() / "workload.md";
+    const CommandResult r =
+        run("bench --scene tetra:2 --width 16 --height 16 --repeats 1 --engines kd1 "
+            "--no-anchor-engines --mode ao --ao-rays 4 --order shuffled --markdown " +
+            md.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(file_bytes(md).find("mode ao, order shuffled"), std::string::npos) << file_bytes(md);
+}
+
+TEST(Cli, WorkloadOptionsThatDoNotGoTogetherAreOneLineAndExitTwo) {
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"bench --scene tetra:1 --engines kd1 --mode shadow --lights 2 --light 1,2,3", "--lights and --light"},
+        {"bench --scene tetra:1 --engines kd1 --mode shadow --lights 2 --area-light", "--area-light and --lights"},
+        {"bench --scene tetra:1 --engines kd1 --mode shadow --area-light --light 1,2,3", "--area-light and --light"},
+        {"bench --scene tetra:1 --engines kd1 --area-light", "--area-light applies to shadow rays only"},
+        {"bench --scene tetra:1 --engines kd1 --mode ao --lights 3", "--lights applies to shadow rays only"},
+        {"bench --scene tetra:1 --engines kd1 --order sideways", "unknown order 'sideways'"},
+        {"bench --scene tetra:1 --engines kd1 --mode bounce", "diffuse"},
+        {"trade --scene tetra:1 --mode diffuse --lights 2 --out " + (temp_dir() / "t").string(), "--lights applies"},
+        {"render --scene tetra:1 --mode ao --shade normal --out " + (temp_dir() / "x.png").string(), "--mode ao"},
+        {"render --scene tetra:1 --mode diffuse --shade ao --out " + (temp_dir() / "x.png").string(), "--mode diffuse"},
+        {"render --scene tetra:1 --engine mlrta --shade complexity --order shuffled --out " +
+             (temp_dir() / "x.png").string(),
+         "--order input"},
+    };
+    for (const auto& [args, expected] : cases) {
+        const CommandResult r = run(args);
+        EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
+        EXPECT_EQ(lines(r.output), 1) << args << ": " << r.output;
+        EXPECT_NE(r.output.find(expected), std::string::npos) << args << ": " << r.output;
+    }
+    EXPECT_EQ(run("bench --scene tetra:1 --engines kd1 --mode shadow --lights 0").exit_code, 2);
+}
+
+TEST(Cli, PicturesOfShuffledRaysAreThePicturesOfRaysInImageOrder) {
+    const fs::path dir = temp_dir();
+    for (const std::string& rays :
+         {std::string("--shade normal"), std::string("--mode diffuse"), std::string("--mode diffuse --shade depth"),
+          std::string("--mode shadow --lights 3"), std::string("--mode shadow --area-light"),
+          std::string("--mode ao --ao-rays 4")}) {
+        std::string bytes[2];
+        for (int k = 0; k < 2; ++k) {
+            const fs::path png = dir / ("order" + std::to_string(k) + ".png");
+            fs::remove(png);
+            const CommandResult r = run("render --scene sphereflake:1 --engine kd1 --width 40 --height 30 " + rays +
+                                        (k ? " --order shuffled" : " --order input") + " --out " + png.string());
+            ASSERT_EQ(r.exit_code, 0) << rays << ": " << r.output;
+            bytes[k] = file_bytes(png);
+        }
+        EXPECT_GT(bytes[0].size(), 100u) << rays;
+        EXPECT_EQ(bytes[0], bytes[1]) << rays << ": the order changed the picture";
     }
 }

@@ -140,3 +140,23 @@ TEST(TradeCli, BadInputIsOneLineAndExitTwo) {
     EXPECT_EQ(count_lines(r.output), 1) << r.output;
     EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
 }
+
+TEST(TradeCli, DiffuseRaysInShuffledOrderCarryHitDistanceErrors) {
+    const fs::path out = beamtrace::test::temp_dir("trade_cli_test") / "diffuse";
+    const CommandResult r =
+        run("trade --scene tetra:3 --mode diffuse --order shuffled --width 32 --height 32 --repeats 1 "
+            "--min-seconds 0 --engines embree1,kd1,mlrta --out " +
+            out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("mode diffuse, order shuffled"), std::string::npos) << r.output;
+    const std::vector<std::string> lines = read_lines(out / "trade.csv");
+    // header, the three Embree engines, kd1 variants, mlrta's two (the rays form no image)
+    ASSERT_EQ(lines.size(), 1u + 3u + 8u + 2u);
+    const std::vector<std::string> header = fields(lines[0]);
+    for (std::size_t i = 1; i < lines.size(); ++i) {
+        const std::vector<std::string> row = fields(lines[i]);
+        ASSERT_EQ(row.size(), header.size()) << lines[i];
+        EXPECT_FALSE(row[column(header, "mean_rel_t_error")].empty()) << lines[i];
+        EXPECT_EQ(row[column(header, "mismatch")], "0") << lines[i];
+    }
+}

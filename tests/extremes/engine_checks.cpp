@@ -170,7 +170,7 @@ CaseReport check_engines(const std::vector<EngineUnderTest>& engines, const work
                          const std::string& what, bool geometry) {
     const Scene& scene = w.source.scene;
     const RaySet& rays = w.rays;
-    const bool closest = rays.mode == Mode::primary;
+    const bool closest = closest_hit(rays.mode);
     CaseReport report;
     report.what = what;
     std::vector<Hit> exact_hits;

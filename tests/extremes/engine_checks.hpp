@@ -38,7 +38,7 @@ workload::RaySet image_ray_set(const std::vector<Ray>& rays, int width, workload
 // Every active ray of a set, in slot order.
 std::vector<Ray> rays_of(const workload::RaySet& set);
 
-// A workload whose rays are `rays` (closest hit for Mode::primary, occlusion otherwise), with the
+// A workload whose rays are `rays` (closest hit when closest_hit(mode), occlusion otherwise), with the
 // oracle's answers; the scene comes from `source`.
 workload::Workload workload_for(const scenes::SceneSource& source, workload::RaySet rays);
 

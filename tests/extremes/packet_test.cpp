@@ -51,7 +51,7 @@ struct Answers {
 
 Answers answer(const EngineUnderTest& e, const RaySet& set) {
     Answers a;
-    if (set.mode == Mode::primary)
+    if (closest_hit(set.mode))
         e.engine->intersect(set, a.hits, 1);
     else
         e.engine->occluded(set, a.occluded, 1);
@@ -70,7 +70,7 @@ void expect_same_answers(const std::vector<EngineUnderTest>& engines, const RayS
         const Answers a = answer(e, clean), b = answer(e, altered);
         std::size_t differ = 0, reported = 0, compared = 0;
         for (std::size_t slot = 0; slot < clean.slots(); ++slot) {
-            const bool closest = clean.mode == Mode::primary;
+            const bool closest = closest_hit(clean.mode);
             if (kept[slot]) {
                 if (!clean.active(slot)) continue;
                 ++compared;
@@ -175,7 +175,7 @@ TEST(Robust, PacketNoActiveRay) {
                 const Answers a = answer(e, set);
                 std::size_t reported = 0;
                 for (std::size_t slot = 0; slot < set.slots(); ++slot)
-                    reported += set.mode == Mode::primary ? a.hits[slot].hit() : a.occluded[slot] != 0;
+                    reported += closest_hit(set.mode) ? a.hits[slot].hit() : a.occluded[slot] != 0;
                 EXPECT_EQ(reported, 0u) << s.name << ": " << e.name << " reports hits for packets with no active ray";
             }
         }

@@ -108,7 +108,7 @@ FloatLimitRecord check_float_limit(const Placement& placement) {
         const std::vector<EngineUnderTest> engines = build_engines(scene, choice);
         for (const auto& [name, unit_set] : unit_rays(unit)) {
             const workload::RaySet rays = placed(unit_set, placement);
-            const bool closest = rays.mode == Mode::primary;
+            const bool closest = closest_hit(rays.mode);
             std::vector<Hit> exact(rays.slots());
             std::vector<std::uint8_t> exact_blocked(rays.slots(), 0);
             for (std::size_t slot = 0; slot < rays.slots(); ++slot) {

@@ -34,7 +34,7 @@ struct FastRecord {
 
 void check_fast(const Engine& fast, const Workload& w, const std::string& what, FastRecord& record) {
     const Scene& scene = w.source.scene;
-    if (w.mode == Mode::primary) {
+    if (closest_hit(w.mode)) {
         std::vector<Hit> hits;
         fast.intersect(w.rays, hits, 2);
         for (std::size_t slot = 0; slot < w.rays.slots(); ++slot) {

@@ -1,6 +1,7 @@
 // kd1, kd16 and mlrta (and brute, where the scene is small) against the Embree oracle: every procedural scene and
 // the shared meshes, from outside and inside cameras, a camera grazing along the floor, a camera on
-// a split plane, random rays; primary, shadow and ao rays. Zero `mismatch` everywhere.
+// a split plane, random rays; primary, shadow, ao and diffuse rays, shadow rays to several lights and
+// to the area light, in input order and (from the scene's own camera) shuffled. Zero `mismatch` everywhere.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -52,19 +53,34 @@ TEST_P(Differential, EnginesAgreeWithEmbree) {
         engines.back()->build(source.scene, EngineOptions{});
     }
 
+    struct RayCase {
+        Mode mode;
+        int lights = 0;
+        bool area = false;
+    };
+    const RayCase ray_cases[] = {{Mode::primary}, {Mode::shadow},    {Mode::ao},
+                                 {Mode::diffuse}, {Mode::shadow, 3}, {Mode::shadow, 0, true}};
+    bool own_camera = true;  // cameras_for() gives the scene's own camera first
     for (const auto& [camera_name, camera] : test::cameras_for(source)) {
-        for (Mode mode : {Mode::primary, Mode::shadow, Mode::ao}) {
-            WorkloadConfig config;
-            config.camera = camera;
-            config.mode = mode;
-            config.width = config.height = mode == Mode::primary ? 96 : 48;
-            config.ao_rays = 4;
-            const Workload w = make_workload(source, config);
-            for (std::size_t i = 0; i < engines.size(); ++i)
-                test::expect_no_mismatch(
-                    check_against_oracle(*engines[i], w, 2),
-                    engines[i]->name() + "#" + std::to_string(i) + " " + camera_name + " " + to_string(mode));
-        }
+        for (const RayCase& c : ray_cases)
+            for (Order order : {Order::input, Order::shuffled}) {
+                if (order == Order::shuffled && !own_camera) continue;
+                WorkloadConfig config;
+                config.camera = camera;
+                config.mode = c.mode;
+                config.lights = c.lights;
+                config.area_light = c.area;
+                config.order = order;
+                config.width = config.height = c.mode == Mode::primary ? 96 : c.lights > 0 ? 32 : 48;
+                config.ao_rays = 4;
+                const Workload w = make_workload(source, config);
+                const std::string what = describe_rays(c.mode, order, point_lights(w), c.area);
+                for (std::size_t i = 0; i < engines.size(); ++i)
+                    test::expect_no_mismatch(
+                        check_against_oracle(*engines[i], w, 2),
+                        engines[i]->name() + "#" + std::to_string(i) + " " + camera_name + " " + what);
+            }
+        own_camera = false;
     }
     // Incoherent rays from everywhere, closest hit and occlusion.
     WorkloadConfig config;

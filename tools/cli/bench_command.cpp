@@ -29,10 +29,10 @@ struct BenchArgs {
 
 std::string bench_header(const workload::BenchResult& r) {
     char buf[512];
-    std::snprintf(buf, sizeof buf,
-                  "scene %s (%zu triangles), mode %s, %dx%d, %d thread%s, %zu rays, best of timed runs\n",
-                  r.scene.c_str(), r.triangles, workload::to_string(r.mode), r.width, r.height, r.threads,
-                  r.threads == 1 ? "" : "s", r.rays);
+    std::snprintf(buf, sizeof buf, "scene %s (%zu triangles), %s, %dx%d, %d thread%s, %zu rays, best of timed runs\n",
+                  r.scene.c_str(), r.triangles,
+                  workload::describe_rays(r.mode, r.order, r.lights, r.area_light).c_str(), r.width, r.height,
+                  r.threads, r.threads == 1 ? "" : "s", r.rays);
     std::string header = buf;
     if (r.anchor) {
         std::snprintf(buf, sizeof buf,

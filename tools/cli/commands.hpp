@@ -30,14 +30,19 @@ std::vector<std::string> split_list(const std::string& text);
 // Writes a text file, creating its folder; throws beamtrace::Error if it cannot.
 void write_text(const std::string& path, const std::string& text);
 
-// Options of the rays bench and trade trace: --light, --mode, --ao-rays.
+// Options of the rays bench, trade and render trace: --light, --lights, --area-light, --mode,
+// --ao-rays, --order.
 struct RayOptions {
     std::string light, mode = "primary";
     int ao_rays = 16;
+    int lights = 0;  // 0: not given
+    bool area_light = false;
+    std::string order = "input";
 };
 void add_ray_options(CLI::App& command, RayOptions& options);
 
-// The workload both describe (throws beamtrace::Error for a bad camera, light or mode).
+// The workload they describe (throws beamtrace::Error for a bad camera, light, mode or order, or
+// options that do not go together: WorkloadConfig::validate).
 workload::WorkloadConfig workload_config(const SceneOptions& scene, const RayOptions& rays);
 
 }  // namespace beamtrace::cli

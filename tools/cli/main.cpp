@@ -46,10 +46,22 @@ void write_text(const std::string& path, const std::string& text) {
 void add_ray_options(CLI::App& command, RayOptions& o) {
     command.add_option("--light", o.light,
                        "X,Y,Z point light of shadow rays (default: halfway between camera and scene centre)");
-    command.add_option("--mode", o.mode, "primary | shadow | ao")->capture_default_str();
+    command
+        .add_option("--lights", o.lights,
+                    "shadow mode: N point lights spread over the scene's upper box, one ray per hit and light "
+                    "(instead of --light)")
+        ->check(CLI::Range(1, 4096));
+    command.add_flag("--area-light", o.area_light,
+                     "shadow mode: one ray per hit to a random point of a square light in the scene's upper box");
+    command.add_option("--mode", o.mode, "primary | shadow | ao | diffuse")->capture_default_str();
     command.add_option("--ao-rays", o.ao_rays, "occlusion rays per pixel in ao mode")
         ->capture_default_str()
         ->check(CLI::Range(1, 4096));
+    command
+        .add_option("--order", o.order,
+                    "input (as made: image order) | shuffled (the rays in one fixed random permutation, 16 to a "
+                    "packet)")
+        ->capture_default_str();
 }
 
 workload::WorkloadConfig workload_config(const SceneOptions& scene, const RayOptions& rays) {
@@ -61,6 +73,10 @@ workload::WorkloadConfig workload_config(const SceneOptions& scene, const RayOpt
     wc.width = scene.width;
     wc.height = scene.height;
     wc.ao_rays = rays.ao_rays;
+    wc.lights = rays.lights;
+    wc.area_light = rays.area_light;
+    wc.order = workload::parse_order(rays.order);
+    wc.validate();
     return wc;
 }
 

@@ -42,10 +42,11 @@ void check_output_folder(const std::string& folder) {
 std::string trade_header(const workload::TradeResult& r) {
     char buf[512];
     std::snprintf(buf, sizeof buf,
-                  "scene %s (%zu triangles), mode %s, %dx%d, %d thread%s, %zu rays; per setting the best of at least "
+                  "scene %s (%zu triangles), %s, %dx%d, %d thread%s, %zu rays; per setting the best of at least "
                   "%d passes and %g s (each pass followed by one of embree16)\n",
-                  r.scene.c_str(), r.triangles, workload::to_string(r.mode), r.width, r.height, r.threads,
-                  r.threads == 1 ? "" : "s", r.rays, r.repeats, r.min_seconds);
+                  r.scene.c_str(), r.triangles,
+                  workload::describe_rays(r.mode, r.order, r.lights, r.area_light).c_str(), r.width, r.height,
+                  r.threads, r.threads == 1 ? "" : "s", r.rays, r.repeats, r.min_seconds);
     std::string header = buf;
     if (const workload::TradeRow* a = r.anchor()) {
         std::snprintf(buf, sizeof buf,

@@ -64,7 +64,7 @@ public:
             prepared_slots_ == rays.slots() && prepared_mode_ == rays.mode)
             return;
         native_.reset();  // free the old layout before making the new one
-        native_ = std::make_unique<EmbreeNativeRays>(*oracle_, layout_, rays.packets, rays.mode == Mode::primary);
+        native_ = std::make_unique<EmbreeNativeRays>(*oracle_, layout_, rays.packets, closest_hit(rays.mode));
         prepared_for_ = &rays;
         prepared_packets_ = rays.packets.data();
         prepared_slots_ = rays.slots();
@@ -80,7 +80,7 @@ public:
         const auto start = std::chrono::steady_clock::now();
         trace_all(*native_, kFlags[variant], threads);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        answers_of(*native_, rays.mode == Mode::primary, answers);
+        answers_of(*native_, closest_hit(rays.mode), answers);
         return seconds;
     }
 
@@ -91,7 +91,7 @@ public:
             {"layout", layout_ == EmbreeLayout::single     ? "RTCRayHit per ray, rtcIntersect1"
                        : layout_ == EmbreeLayout::packet16 ? "RTCRayHit16 per 4x4 packet, rtcIntersect16"
                                                            : "RTCRayHit array, rtcIntersect1M"}};
-        if (rays.mode != Mode::primary) {
+        if (!closest_hit(rays.mode)) {
             j["layout"] = layout_ == EmbreeLayout::single     ? "RTCRay per ray, rtcOccluded1"
                           : layout_ == EmbreeLayout::packet16 ? "RTCRay16 per 4x4 packet, rtcOccluded16"
                                                               : "RTCRay array, rtcOccluded1M";

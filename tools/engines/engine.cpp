@@ -49,7 +49,7 @@ void Engine::occluded(const RaySet& rays, std::vector<std::uint8_t>& occluded, i
 
 double Engine::timed_pass(const RaySet& rays, EngineAnswers& answers, int threads, int) {
     prepare(rays);
-    const bool closest = rays.mode == Mode::primary;
+    const bool closest = closest_hit(rays.mode);
     const auto start = std::chrono::steady_clock::now();
     trace(rays, closest, answers, threads);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

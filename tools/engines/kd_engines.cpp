@@ -57,7 +57,7 @@ public:
         QueryCounters c;
         EngineAnswers a;
         const ActiveRays in = active_rays(rays);
-        query(in, rays.mode == Mode::primary, a, QueryOptions{1, &c});
+        query(in, closest_hit(rays.mode), a, QueryOptions{1, &c});
         const double n = c.rays ? double(c.rays) : 1.0;
         nlohmann::json j = {{"inner_steps_per_ray", double(c.inner_steps) / n},
                             {"leaves_per_ray", double(c.leaves) / n},
@@ -106,7 +106,7 @@ public:
     nlohmann::json stats(const RaySet& rays) const override {
         QueryCounters c;
         EngineAnswers a;
-        answer_packets(*tree_, rays, rays.mode == Mode::primary, a, QueryOptions{1, &c});
+        answer_packets(*tree_, rays, closest_hit(rays.mode), a, QueryOptions{1, &c});
         nlohmann::json j = packet_counters_json(c, tree_->stats().nodes, tree_->experimental().triangle_culling);
         j.update(mlrta_settings_json(settings_));  // the settings this engine was given (the JSON contract's keys)
         return j;

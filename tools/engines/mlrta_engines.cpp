@@ -44,7 +44,7 @@ public:
     nlohmann::json stats(const RaySet& rays) const override {
         QueryCounters c;
         EngineAnswers a;
-        query(rays, rays.mode == Mode::primary, a, QueryOptions{1, &c});
+        query(rays, closest_hit(rays.mode), a, QueryOptions{1, &c});
         nlohmann::json j =
             packet_counters_json(c, tree_->stats().nodes, mlrta_->settings().experimental.triangle_culling);
         j.update(mlrta_settings_json(mlrta_->settings()));

@@ -48,7 +48,7 @@ public:
     nlohmann::json stats(const RaySet& rays) const override {
         QueryCounters c;
         EngineAnswers a;
-        answer_packets(*field_, rays, rays.mode == Mode::primary, a, QueryOptions{1, &c});
+        answer_packets(*field_, rays, closest_hit(rays.mode), a, QueryOptions{1, &c});
         const VlfStats s = field_->stats();
         const double n = c.rays ? double(c.rays) : 1.0;
         return {{"mode", mode_ == VlfMode::exact ? "exact" : "fast"},

@@ -51,7 +51,7 @@ using report::fixed;
 }  // namespace
 
 oracle::Tally check_against_oracle(const Engine& engine, const Workload& w, int threads) {
-    if (w.mode == Mode::primary) {
+    if (closest_hit(w.mode)) {
         std::vector<Hit> hits;
         engine.intersect(w.rays, hits, threads);
         return compare(w, hits);
@@ -96,7 +96,7 @@ std::vector<std::string> engines_of_run(const BenchOptions& options) {
 }  // namespace
 
 oracle::Tally compare_with_oracle(const Workload& w, const EngineAnswers& answers, bool oracle_hints) {
-    return w.mode == Mode::primary ? compare(w, answers.hits) : compare(w, answers.occluded, oracle_hints);
+    return closest_hit(w.mode) ? compare(w, answers.hits) : compare(w, answers.occluded, oracle_hints);
 }
 
 const std::vector<std::string>& anchor_engines() {
@@ -174,7 +174,7 @@ void summarize_timing(const Workload& w, TimedEngine& run) {
     r.memory_bytes = run.engine->memory_bytes();
     r.mrays_per_s = mrays(w, r.seconds);
     for (VariantTiming& v : r.variants) v.mrays_per_s = mrays(w, v.seconds);
-    r.hits = w.mode == Mode::primary ? count_hits(run.answers.hits) : count_hits(run.answers.occluded);
+    r.hits = closest_hit(w.mode) ? count_hits(run.answers.hits) : count_hits(run.answers.occluded);
 }
 
 BenchResult run_bench(const Workload& w, const BenchOptions& options) {
@@ -186,6 +186,9 @@ BenchResult run_bench(const Workload& w, const BenchOptions& options) {
     result.scene = w.source.name;
     result.triangles = w.source.scene.triangle_count();
     result.mode = w.mode;
+    result.order = w.order;
+    result.lights = point_lights(w);
+    result.area_light = w.mode == Mode::shadow && w.lights.area.has_value();
     result.width = w.rays.width;
     result.height = w.rays.height;
     result.threads = options.threads;
@@ -225,9 +228,18 @@ nlohmann::json to_json(const BenchResult& r) {
         anchor = {{"engine", r.anchor->engine},
                   {"mrays_per_s", r.anchor->mrays_per_s},
                   {"context_flag", r.anchor->context_flag}};
-    return {{"scene", r.scene}, {"triangles", r.triangles}, {"mode", to_string(r.mode)},
-            {"width", r.width}, {"height", r.height},       {"threads", r.threads},
-            {"rays", r.rays},   {"anchor", anchor},         {"engines", engines}};
+    return {{"scene", r.scene},
+            {"triangles", r.triangles},
+            {"mode", to_string(r.mode)},
+            {"width", r.width},
+            {"height", r.height},
+            {"threads", r.threads},
+            {"rays", r.rays},
+            {"anchor", anchor},
+            {"engines", engines},
+            {"order", to_string(r.order)},
+            {"lights", r.lights},
+            {"area_light", r.area_light}};
 }
 
 report::Table to_table(const BenchResult& r) {

@@ -94,6 +94,9 @@ struct BenchResult {
     std::string scene;
     std::size_t triangles = 0;
     Mode mode = Mode::primary;
+    Order order = Order::input;
+    int lights = 0;           // point lights of shadow rays (point_lights()); 0 in other modes
+    bool area_light = false;  // shadow rays to the area light
     int width = 0, height = 0, threads = 1;
     std::size_t rays = 0;
     std::vector<EngineResult> engines;
@@ -107,6 +110,7 @@ BenchResult run_bench(const Workload& workload, const BenchOptions& options);
 
 // {"scene", "triangles", "mode", "width", "height", "threads", "rays",
 //  "anchor": {"engine", "mrays_per_s", "context_flag"} (null without one),
+//  "order" ("input" | "shuffled"), "lights" (point lights of shadow rays, 0 otherwise), "area_light" (bool),
 //  "engines": {NAME: {"mrays_per_s", "x_anchor" (null without an anchor), ...}}}
 nlohmann::json to_json(const BenchResult& result);
 // One row per engine; "x best Embree" is the speed ratio to the run's anchor.

@@ -12,8 +12,46 @@ Shade parse_shade(const std::string& text) {
     if (text == "normal") return Shade::normal;
     if (text == "depth") return Shade::depth;
     if (text == "ao") return Shade::ao;
+    if (text == "shadow") return Shade::shadow;
     if (text == "complexity") return Shade::complexity;
-    throw Error("unknown shading '" + text + "' (expected normal, depth, ao or complexity)");
+    throw Error("unknown shading '" + text + "' (expected normal, depth, ao, shadow or complexity)");
+}
+
+const char* to_string(Shade shade) {
+    switch (shade) {
+        case Shade::normal:
+            return "normal";
+        case Shade::depth:
+            return "depth";
+        case Shade::ao:
+            return "ao";
+        case Shade::shadow:
+            return "shadow";
+        case Shade::complexity:
+            return "complexity";
+    }
+    return "?";
+}
+
+Mode picture_mode(const PictureOptions& o) {
+    const std::string shade = to_string(o.shade), mode = to_string(o.mode);
+    switch (o.mode) {
+        case Mode::primary:
+            break;
+        case Mode::ao:
+        case Mode::shadow:
+            if ((o.mode == Mode::ao && o.shade != Shade::ao) || (o.mode == Mode::shadow && o.shade != Shade::shadow))
+                throw Error("--mode " + mode + " draws --shade " + mode + ", not --shade " + shade);
+            break;
+        case Mode::diffuse:
+            if (o.shade != Shade::normal && o.shade != Shade::depth)
+                throw Error("--mode diffuse draws the bounce rays' hits by --shade normal or depth, not --shade " +
+                            shade);
+            break;
+    }
+    if (o.shade == Shade::ao) return Mode::ao;
+    if (o.shade == Shade::shadow) return Mode::shadow;
+    return o.mode;
 }
 
 namespace {
@@ -44,47 +82,82 @@ report::Image complexity_picture(const Engine& engine, const RaySet& primary) {
 
 }  // namespace
 
+WorkloadConfig picture_config(const PictureOptions& o) {
+    WorkloadConfig config;
+    config.mode = picture_mode(o);
+    config.width = o.width;
+    config.height = o.height;
+    config.ao_rays = o.ao_rays;
+    config.ao_directions = o.ao_directions;
+    config.light = o.light;
+    config.lights = o.lights;
+    config.area_light = o.area_light;
+    config.order = o.order;
+    config.validate();
+    if (o.shade == Shade::complexity && o.order != Order::input)
+        throw Error("--shade complexity needs the rays in image order (--order input), not --order " +
+                    std::string(to_string(o.order)));
+    return config;
+}
+
 report::Image render_picture(const Engine& engine, const Scene& scene, const scenes::Camera& camera,
                              const PictureOptions& o) {
-    const RaySet primary = make_primary_rays(camera, o.width, o.height);
-    if (o.shade == Shade::complexity) return complexity_picture(engine, primary);
+    const WorkloadConfig config = picture_config(o);
+    const RaySet image = make_primary_rays(camera, o.width, o.height);
+    if (o.shade == Shade::complexity) return complexity_picture(engine, image);
+    // The primary rays are the picture's rays only in primary mode; secondary rays start from them in
+    // image order and are put in the order asked for themselves.
+    const RaySet primary = config.mode == Mode::primary ? reorder(image, o.order) : image;
     std::vector<Hit> hits;
     engine.intersect(primary, hits, o.threads);
-    report::Image image(o.width, o.height);
+    report::Image picture(o.width, o.height);
     const report::Rgb8 background{32, 32, 40};
     for (int y = 0; y < o.height; ++y)
-        for (int x = 0; x < o.width; ++x) image.set(x, y, background.r, background.g, background.b);
+        for (int x = 0; x < o.width; ++x) picture.set(x, y, background.r, background.g, background.b);
 
     auto paint = [&](std::uint32_t pixel, report::Rgb8 c) {
-        image.set(int(pixel % std::uint32_t(o.width)), int(pixel / std::uint32_t(o.width)), c.r, c.g, c.b);
+        picture.set(int(pixel % std::uint32_t(o.width)), int(pixel / std::uint32_t(o.width)), c.r, c.g, c.b);
     };
-    switch (o.shade) {
-        case Shade::complexity:
-            break;  // handled above
-        case Shade::normal:
-            for (std::size_t s = 0; s < primary.slots(); ++s)
-                if (primary.active(s) && hits[s].hit())
-                    paint(primary.pixel[s], report::normal_color(surface_point(scene, primary.ray(s), hits[s]).normal));
+    // Normal or depth of the closest hits of `rays`; rays that escape are painted `escaped` (if any).
+    auto shade_hits = [&](const RaySet& rays, const std::vector<Hit>& closest, const report::Rgb8* escaped) {
+        float lo = kInfinity, hi = 0.0f;
+        for (const Hit& h : closest)
+            if (h.hit()) lo = std::min(lo, h.t), hi = std::max(hi, h.t);
+        for (std::size_t s = 0; s < rays.slots(); ++s) {
+            if (!rays.active(s)) continue;
+            if (!closest[s].hit()) {
+                if (escaped) paint(rays.pixel[s], *escaped);
+                continue;
+            }
+            paint(rays.pixel[s], o.shade == Shade::depth
+                                     ? report::heat_color(1.0 - (closest[s].t - lo) / std::max(hi - lo, 1e-30f))
+                                     : report::normal_color(surface_point(scene, rays.ray(s), closest[s]).normal));
+        }
+    };
+    switch (config.mode) {
+        case Mode::primary:
+            shade_hits(primary, hits, nullptr);
             break;
-        case Shade::depth: {
-            float lo = kInfinity, hi = 0.0f;
-            for (const Hit& h : hits)
-                if (h.hit()) lo = std::min(lo, h.t), hi = std::max(hi, h.t);
-            for (std::size_t s = 0; s < primary.slots(); ++s)
-                if (primary.active(s) && hits[s].hit())
-                    paint(primary.pixel[s], report::heat_color(1.0 - (hits[s].t - lo) / std::max(hi - lo, 1e-30f)));
+        case Mode::diffuse: {
+            const RaySet bounce = make_mode_rays(scene, primary, hits, config, {});
+            std::vector<Hit> bounce_hits;
+            engine.intersect(bounce, bounce_hits, o.threads);
+            const report::Rgb8 sky{220, 230, 245};
+            shade_hits(bounce, bounce_hits, &sky);
             break;
         }
-        case Shade::ao: {
-            const RaySet ao = make_ao_rays(scene, primary, hits, o.ao_rays, o.ao_directions);
+        case Mode::ao:
+        case Mode::shadow: {
+            const RaySet rays =
+                make_mode_rays(scene, primary, hits, config, shadow_lights(config, scene.bounds(), camera));
             std::vector<std::uint8_t> occluded;
-            engine.occluded(ao, occluded, o.threads);
+            engine.occluded(rays, occluded, o.threads);
             std::vector<int> open(std::size_t(o.width) * std::size_t(o.height), 0);
             std::vector<int> total(open.size(), 0);
-            for (std::size_t s = 0; s < ao.slots(); ++s)
-                if (ao.active(s)) {
-                    ++total[ao.pixel[s]];
-                    open[ao.pixel[s]] += occluded[s] ? 0 : 1;
+            for (std::size_t s = 0; s < rays.slots(); ++s)
+                if (rays.active(s)) {
+                    ++total[rays.pixel[s]];
+                    open[rays.pixel[s]] += occluded[s] ? 0 : 1;
                 }
             for (std::size_t p = 0; p < open.size(); ++p)
                 if (total[p] > 0) {
@@ -94,7 +167,7 @@ report::Image render_picture(const Engine& engine, const Scene& scene, const sce
             break;
         }
     }
-    return image;
+    return picture;
 }
 
 }  // namespace beamtrace::workload

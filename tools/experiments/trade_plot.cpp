@@ -158,9 +158,9 @@ TradePlot trade_plot(const TradeResult& r) {
     std::string s;
     char head[512];
     std::snprintf(head, sizeof head,
-                  "%s (%zu triangles), %s rays, %dx%d, %zu rays, %d thread%s, best pass of >= %d and >= %g s",
-                  r.scene.c_str(), r.triangles, to_string(r.mode), r.width, r.height, r.rays, r.threads,
-                  r.threads == 1 ? "" : "s", r.repeats, r.min_seconds);
+                  "%s (%zu triangles), %s, %dx%d, %zu rays, %d thread%s, best pass of >= %d and >= %g s",
+                  r.scene.c_str(), r.triangles, describe_rays(r.mode, r.order, r.lights, r.area_light).c_str(), r.width,
+                  r.height, r.rays, r.threads, r.threads == 1 ? "" : "s", r.repeats, r.min_seconds);
     s += "set termoption noenhanced\n";
     s += "set title " + quoted(head) + "\n";
     s += "set xlabel 'mismatches per ray (log scale; 0 = no mismatch, engines side by side)' offset 0,0.3\n";

@@ -194,6 +194,9 @@ TradeResult run_trade(const Workload& w, const TradeOptions& options) {
     result.scene = w.source.name;
     result.triangles = w.source.scene.triangle_count();
     result.mode = w.mode;
+    result.order = w.order;
+    result.lights = point_lights(w);
+    result.area_light = w.mode == Mode::shadow && w.lights.area.has_value();
     result.width = w.rays.width;
     result.height = w.rays.height;
     result.threads = options.threads;
@@ -240,7 +243,7 @@ TradeResult run_trade(const Workload& w, const TradeOptions& options) {
             row.x_reference = t.result.seconds > 0.0 ? reference.result.seconds / t.result.seconds : 0.0;
             row.result = std::move(t.result);
             row.result.oracle = compare_with_oracle(w, t.answers, true);
-            if (w.mode == Mode::primary) row.t_error = relative_t_error(t.answers.hits, w.reference_hits);
+            if (closest_hit(w.mode)) row.t_error = relative_t_error(t.answers.hits, w.reference_hits);
             if (w.mode == Mode::ao)
                 row.occlusion_mae = occlusion_fraction_mae(w.rays.pixel, t.answers.occluded, w.reference_occluded);
         }
@@ -278,13 +281,13 @@ std::string to_csv(const TradeResult& r) {
             continue;
         }
         const EngineResult& e = row.result;
-        const bool primary = r.mode == Mode::primary;
+        const bool closest = closest_hit(r.mode);  // hit distances compared (primary, diffuse)
         csv += number(e.mrays_per_s) + "," + number(row.x_reference) + "," + number(e.seconds) + "," +
                number(e.build_seconds) + "," + std::to_string(e.memory_bytes) + "," + std::to_string(e.oracle.total()) +
                "," + std::to_string(e.oracle.agree) + "," + std::to_string(e.oracle.ties) + "," +
                std::to_string(e.oracle.grazing) + "," + std::to_string(e.oracle.mismatch) + "," +
-               number(row.error_rate()) + "," + (primary ? number(row.t_error.mean) : "") + "," +
-               (primary ? number(row.t_error.max) : "") + "," + (r.mode == Mode::ao ? number(row.occlusion_mae) : "") +
+               number(row.error_rate()) + "," + (closest ? number(row.t_error.mean) : "") + "," +
+               (closest ? number(row.t_error.max) : "") + "," + (r.mode == Mode::ao ? number(row.occlusion_mae) : "") +
                "," + (row.pareto ? "1" : "0") + "," + (is_reference_engine(row.setting.engine) ? "reference" : "") +
                "," + (r.anchor() ? number(row.x_anchor) : "") + "\n";
     }
@@ -292,9 +295,9 @@ std::string to_csv(const TradeResult& r) {
 }
 
 report::Table to_table(const TradeResult& r) {
-    const bool primary = r.mode == Mode::primary, ao = r.mode == Mode::ao;
+    const bool closest = closest_hit(r.mode), ao = r.mode == Mode::ao;
     report::Table t({"setting", "Mrays/s", "x embree16", "x anchor", "build s", "memory MB", "mismatch", "error %",
-                     primary ? "mean |dt|/t" : (ao ? "AO MAE" : "-"), "Pareto"});
+                     closest ? "mean |dt|/t" : (ao ? "AO MAE" : "-"), "Pareto"});
     for (const TradeRow& row : r.rows) {
         if (!row.measured()) {
             t.add_row({row.setting.label, "-", "-", "-", "-", "-", "-", "-", "-", "skipped"});
@@ -306,7 +309,7 @@ report::Table to_table(const TradeResult& r) {
                    fixed(row.x_reference, 2), r.anchor() ? fixed(row.x_anchor, 2) : "-", fixed(e.build_seconds, 3),
                    fixed(double(e.memory_bytes) / 1e6, 1), std::to_string(e.oracle.mismatch),
                    number(100.0 * row.error_rate()),
-                   primary ? number(row.t_error.mean) : (ao ? number(row.occlusion_mae) : "-"), row.pareto ? "*" : ""});
+                   closest ? number(row.t_error.mean) : (ao ? number(row.occlusion_mae) : "-"), row.pareto ? "*" : ""});
     }
     return t;
 }

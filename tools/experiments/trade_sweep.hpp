@@ -70,6 +70,9 @@ struct TradeResult {
     std::string scene;
     std::size_t triangles = 0;
     Mode mode = Mode::primary;
+    Order order = Order::input;
+    int lights = 0;           // point lights of shadow rays (point_lights()); 0 in other modes
+    bool area_light = false;  // shadow rays to the area light
     int width = 0, height = 0, threads = 1, repeats = 0;
     double min_seconds = 0.0;
     std::size_t rays = 0;

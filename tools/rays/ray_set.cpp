@@ -1,7 +1,9 @@
 #include "rays/ray_set.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <utility>
 
 #include "beamtrace/error.hpp"
 #include "beamtrace/vlf.hpp"
@@ -16,14 +18,24 @@ const char* to_string(Mode mode) {
             return "shadow";
         case Mode::ao:
             return "ao";
+        case Mode::diffuse:
+            return "diffuse";
     }
     return "?";
 }
 
 Mode parse_mode(const std::string& text) {
-    for (Mode m : {Mode::primary, Mode::shadow, Mode::ao})
+    for (Mode m : {Mode::primary, Mode::shadow, Mode::ao, Mode::diffuse})
         if (text == to_string(m)) return m;
-    throw Error("unknown mode '" + text + "' (expected primary, shadow or ao)");
+    throw Error("unknown mode '" + text + "' (expected primary, shadow, ao or diffuse)");
+}
+
+const char* to_string(Order order) { return order == Order::input ? "input" : "shuffled"; }
+
+Order parse_order(const std::string& text) {
+    for (Order o : {Order::input, Order::shuffled})
+        if (text == to_string(o)) return o;
+    throw Error("unknown order '" + text + "' (expected input or shuffled)");
 }
 
 RaySet make_primary_rays(const scenes::Camera& camera, int width, int height) {
@@ -144,28 +156,42 @@ Float3 psf_direction(const DirectionSet& set, Float3 d, Float3 n, std::uint32_t 
     return dot(w, n) > 0.0f ? w : snap_to_set(set, n);
 }
 
-}  // namespace
-
-RaySet make_random_rays(const Box& box, std::size_t count, unsigned seed, Mode mode) {
-    RaySet set;
-    set.mode = mode;
-    set.width = int(std::min<std::size_t>(count, 65536));
-    set.height = 1;
-    PacketWriter writer(set);
-    const Float3 lo = box.lower - box.extent() * 0.2f, size = box.extent() * 1.4f;
-    for (std::size_t i = 0; i < count; ++i) {
-        auto u = [&](std::uint32_t k) { return unit_float(hash(std::uint32_t(i) * 13u + k + seed * 7777u)); };
-        Ray r;
-        r.org = lo + Float3{u(1) * size.x, u(2) * size.y, u(3) * size.z};
-        const float z = 2.0f * u(4) - 1.0f, phi = 6.28318531f * u(5), s = std::sqrt(std::max(0.0f, 1.0f - z * z));
-        r.dir = Float3{s * std::cos(phi), s * std::sin(phi), z};
-        r.tfar = mode == Mode::primary ? kInfinity : 0.5f * box.diagonal();
-        writer.add(r, std::uint32_t(i % std::size_t(set.width)));
-    }
-    return set;
+// An orthonormal frame around the unit normal n: t, b, n.
+struct Frame {
+    Float3 t, b, n;
+};
+Frame frame_around(Float3 n) {
+    const Float3 a = std::fabs(n.x) > 0.5f ? Float3{0, 1, 0} : Float3{1, 0, 0};
+    const Float3 t = normalize(cross(a, n));
+    return Frame{t, cross(n, t), n};
 }
 
-RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits, Float3 light) {
+// The cosine-weighted direction of the hemisphere of n for the uniform numbers u1, u2 in [0, 1).
+Float3 cosine_direction(const Frame& f, float u1, float u2) {
+    const float r = std::sqrt(u1), phi = 6.28318531f * u2;
+    const float x = r * std::cos(phi), y = r * std::sin(phi), z = std::sqrt(std::max(0.0f, 1.0f - u1));
+    return normalize(f.t * x + f.b * y + f.n * z);
+}
+Float3 cosine_direction(Float3 n, float u1, float u2) { return cosine_direction(frame_around(n), u1, u2); }
+
+// The shadow ray from a surface point to a light: from the point lifted off the surface towards
+// the light, ending just before it (tfar = 1 - 1e-4 with the direction light - origin). False when
+// the light sits on the point.
+bool shadow_ray(const SurfacePoint& s, Float3 light, float offset, Ray& r) {
+    const Float3 to_light = light - s.position;
+    const Float3 lift = s.normal * (dot(s.normal, to_light) >= 0.0f ? offset : -offset);
+    r.org = s.position + lift;
+    r.dir = light - r.org;
+    if (!(dot(r.dir, r.dir) > 0.0f)) return false;
+    r.tnear = 0.0f;
+    r.tfar = 1.0f - 1e-4f;
+    return true;
+}
+
+// Shadow rays in the primary rays' slots (an image when they are one), one per primary hit, to the
+// point light_of(pixel).
+template <class LightOf>
+RaySet image_shadow_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits, LightOf&& light_of) {
     check_hits(primary, hits);
     RaySet set;
     set.mode = Mode::shadow;
@@ -184,21 +210,109 @@ RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::ve
             packet.set_ray(lane, idle);
             const std::size_t slot = p * 16 + std::size_t(lane);
             if (!primary.active(slot) || !hits[slot].hit()) continue;
-            const Ray pr = primary.ray(slot);
-            const SurfacePoint s = surface_point(scene, pr, hits[slot]);
-            const Float3 to_light = light - s.position;
-            const Float3 lift = s.normal * (dot(s.normal, to_light) >= 0.0f ? offset : -offset);
+            const SurfacePoint s = surface_point(scene, primary.ray(slot), hits[slot]);
             Ray r;
-            r.org = s.position + lift;
-            r.dir = light - r.org;
-            if (!(dot(r.dir, r.dir) > 0.0f)) continue;  // the light sits on the surface point
-            r.tnear = 0.0f;
-            r.tfar = 1.0f - 1e-4f;
+            if (!shadow_ray(s, light_of(primary.pixel[slot]), offset, r)) continue;  // the light sits on the point
             packet.set_ray(lane, r);
             packet.active |= 1u << lane;
             set.pixel[slot] = primary.pixel[slot];
             ++set.ray_count;
         }
+    }
+    return set;
+}
+
+// The radical inverse of i in base b (the Halton sequence).
+float radical_inverse(std::uint32_t i, std::uint32_t b) {
+    double f = 1.0, r = 0.0;
+    for (; i > 0; i /= b) {
+        f /= double(b);
+        r += f * double(i % b);
+    }
+    return float(r);
+}
+
+// SplitMix64: the generator of the shuffle.
+std::uint64_t splitmix64(std::uint64_t& state) {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+}  // namespace
+
+RaySet make_random_rays(const Box& box, std::size_t count, unsigned seed, Mode mode) {
+    RaySet set;
+    set.mode = mode;
+    set.width = int(std::min<std::size_t>(count, 65536));
+    set.height = 1;
+    PacketWriter writer(set);
+    const Float3 lo = box.lower - box.extent() * 0.2f, size = box.extent() * 1.4f;
+    for (std::size_t i = 0; i < count; ++i) {
+        auto u = [&](std::uint32_t k) { return unit_float(hash(std::uint32_t(i) * 13u + k + seed * 7777u)); };
+        Ray r;
+        r.org = lo + Float3{u(1) * size.x, u(2) * size.y, u(3) * size.z};
+        const float z = 2.0f * u(4) - 1.0f, phi = 6.28318531f * u(5), s = std::sqrt(std::max(0.0f, 1.0f - z * z));
+        r.dir = Float3{s * std::cos(phi), s * std::sin(phi), z};
+        r.tfar = closest_hit(mode) ? kInfinity : 0.5f * box.diagonal();
+        writer.add(r, std::uint32_t(i % std::size_t(set.width)));
+    }
+    return set;
+}
+
+RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits, Float3 light) {
+    return image_shadow_rays(scene, primary, hits, [light](std::uint32_t) { return light; });
+}
+
+RaySet make_area_shadow_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits,
+                             const AreaLight& light) {
+    return image_shadow_rays(scene, primary, hits, [&light](std::uint32_t pixel) {
+        const std::uint32_t h = hash(pixel * 7919u + 0x1b873593u);
+        return light.point(unit_float(h), unit_float(hash(h)));
+    });
+}
+
+RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits,
+                        const std::vector<Float3>& lights) {
+    check_hits(primary, hits);
+    if (lights.empty() || lights.size() > 4096) throw Error("--lights must be between 1 and 4096");
+    RaySet set;
+    set.mode = Mode::shadow;
+    set.width = primary.width;
+    set.height = primary.height;
+    const float offset = surface_offset(scene);
+    PacketWriter writer(set);
+    for (std::size_t slot = 0; slot < primary.slots(); ++slot) {
+        if (!primary.active(slot) || !hits[slot].hit()) continue;
+        const SurfacePoint s = surface_point(scene, primary.ray(slot), hits[slot]);
+        if (lights.size() >= 16 && lights.size() % 16 == 0) writer.close();
+        for (const Float3& light : lights) {
+            Ray r;
+            if (shadow_ray(s, light, offset, r)) writer.add(r, primary.pixel[slot]);
+        }
+    }
+    return set;
+}
+
+RaySet make_diffuse_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits) {
+    check_hits(primary, hits);
+    RaySet set;
+    set.mode = Mode::diffuse;
+    set.width = primary.width;
+    set.height = primary.height;
+    const float offset = surface_offset(scene);
+    PacketWriter writer(set);
+    for (std::size_t slot = 0; slot < primary.slots(); ++slot) {
+        if (!primary.active(slot) || !hits[slot].hit()) continue;
+        const SurfacePoint s = surface_point(scene, primary.ray(slot), hits[slot]);
+        const std::uint32_t h = hash(primary.pixel[slot] * 7919u + 0x68e31da4u);
+        Ray ray;
+        ray.org = s.position + s.normal * offset;
+        ray.dir = cosine_direction(s.normal, unit_float(h), unit_float(hash(h)));
+        ray.tnear = 0.0f;
+        ray.tfar = kInfinity;
+        writer.add(ray, primary.pixel[slot]);
     }
     return set;
 }
@@ -226,10 +340,7 @@ RaySet make_ao_rays(const Scene& scene, const RaySet& primary, const std::vector
     for (std::size_t slot = 0; slot < primary.slots(); ++slot) {
         if (!primary.active(slot) || !hits[slot].hit()) continue;
         const SurfacePoint s = surface_point(scene, primary.ray(slot), hits[slot]);
-        // An orthonormal frame around the normal.
-        const Float3 n = s.normal;
-        const Float3 a = std::fabs(n.x) > 0.5f ? Float3{0, 1, 0} : Float3{1, 0, 0};
-        const Float3 t = normalize(cross(a, n)), b = cross(n, t);
+        const Frame f = frame_around(s.normal);  // an orthonormal frame around the normal
         if (ao_rays >= 16 && ao_rays % 16 == 0) writer.close();
         for (int i = 0; i < ao_rays; ++i) {
             const std::uint32_t h = hash(primary.pixel[slot] * 7919u + std::uint32_t(i) * 104729u + 17u);
@@ -238,17 +349,98 @@ RaySet make_ao_rays(const Scene& scene, const RaySet& primary, const std::vector
                 u1 = (float(i % strata) + u1) / float(strata);
                 u2 = (float(i / strata) + u2) / float(strata);
             }
-            const float r = std::sqrt(u1), phi = 6.28318531f * u2;
-            const float x = r * std::cos(phi), y = r * std::sin(phi), z = std::sqrt(std::max(0.0f, 1.0f - u1));
             Ray ray;
-            ray.org = s.position + n * offset;
-            ray.dir = normalize(t * x + b * y + n * z);
-            if (psf) ray.dir = psf_direction(*psf, ray.dir, n, h);
+            ray.org = s.position + s.normal * offset;
+            ray.dir = cosine_direction(f, u1, u2);
+            if (psf) ray.dir = psf_direction(*psf, ray.dir, s.normal, h);
             ray.tnear = 0.0f;
             ray.tfar = length;
             writer.add(ray, primary.pixel[slot]);
         }
     }
+    return set;
+}
+
+Float3 UpperBox::up() const {
+    Float3 u{0, 0, 0};
+    u[up_axis] = up_sign;
+    return u;
+}
+
+UpperBox upper_box(const Box& bounds, Float3 up) {
+    if (bounds.empty() || !(bounds.diagonal() < kInfinity))
+        throw Error("lights: the scene's box is empty or unbounded");
+    UpperBox u;
+    int axis = 1;  // y, then z, then x on ties
+    for (int k : {2, 0})
+        if (std::fabs(up[k]) > std::fabs(up[axis])) axis = k;
+    u.up_axis = axis;
+    u.up_sign = up[axis] < 0.0f ? -1.0f : 1.0f;
+    const Float3 e = bounds.extent();
+    u.box = bounds;
+    for (int k = 0; k < 3; ++k) {
+        u.box.lower[k] = bounds.lower[k] + 0.05f * e[k];
+        u.box.upper[k] = bounds.upper[k] - 0.05f * e[k];
+    }
+    if (u.up_sign > 0.0f)
+        u.box.lower[axis] = bounds.upper[axis] - 0.20f * e[axis];
+    else
+        u.box.upper[axis] = bounds.lower[axis] + 0.20f * e[axis];
+    return u;
+}
+
+namespace {
+// The two axes across up, in x, y, z order.
+std::pair<int, int> across(int up_axis) { return {up_axis == 0 ? 1 : 0, up_axis == 2 ? 1 : 2}; }
+}  // namespace
+
+std::vector<Float3> spread_lights(const UpperBox& upper, int count) {
+    if (count < 1 || count > 4096) throw Error("--lights must be between 1 and 4096");
+    const auto [h1, h2] = across(upper.up_axis);
+    const Float3 lo = upper.box.lower, e = upper.box.extent();
+    std::vector<Float3> lights;
+    for (int i = 0; i < count; ++i) {
+        const auto n = std::uint32_t(i + 1);
+        Float3 p = lo;
+        p[h1] += radical_inverse(n, 2) * e[h1];
+        p[h2] += radical_inverse(n, 3) * e[h2];
+        p[upper.up_axis] += radical_inverse(n, 5) * e[upper.up_axis];
+        lights.push_back(p);
+    }
+    return lights;
+}
+
+AreaLight area_light(const UpperBox& upper) {
+    const auto [h1, h2] = across(upper.up_axis);
+    const Float3 e = upper.box.extent();
+    AreaLight a;
+    a.side = 0.5f * std::min(e[h1], e[h2]);
+    a.center = upper.box.center();
+    a.center[upper.up_axis] = upper.up_sign > 0.0f ? upper.box.upper[upper.up_axis] : upper.box.lower[upper.up_axis];
+    a.edge_u = Float3{0, 0, 0};
+    a.edge_v = Float3{0, 0, 0};
+    a.edge_u[h1] = a.side;
+    a.edge_v[h2] = a.side;
+    return a;
+}
+
+RaySet reorder(const RaySet& rays, Order order) {
+    if (order == Order::input) return rays;
+    std::vector<std::uint32_t> slots;
+    slots.reserve(rays.ray_count);
+    for (std::size_t slot = 0; slot < rays.slots(); ++slot)
+        if (rays.active(slot)) slots.push_back(std::uint32_t(slot));
+    std::uint64_t state = kShuffleSeed;
+    for (std::size_t i = slots.size(); i > 1; --i) {  // Fisher-Yates: position i - 1 takes one of [0, i)
+        const std::size_t j = std::size_t(splitmix64(state) % i);
+        std::swap(slots[i - 1], slots[j]);
+    }
+    RaySet set;
+    set.mode = rays.mode;
+    set.width = rays.width;
+    set.height = rays.height;
+    PacketWriter writer(set);
+    for (const std::uint32_t slot : slots) writer.add(rays.ray(slot), rays.pixel[slot]);
     return set;
 }
 

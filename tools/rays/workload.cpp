@@ -2,6 +2,7 @@
 
 #include <thread>
 
+#include "beamtrace/error.hpp"
 #include "engines/parallel.hpp"
 
 namespace beamtrace::workload {
@@ -30,42 +31,113 @@ std::vector<std::uint8_t> oracle_occlusion(const oracle::EmbreeOracle& oracle, c
 
 }  // namespace
 
+void WorkloadConfig::validate() const {
+    const std::string mode_name = to_string(mode);
+    if (lights != 0) {
+        if (lights < 1 || lights > 4096) throw Error("--lights must be between 1 and 4096");
+        if (light)
+            throw Error(
+                "--lights and --light cannot be used together: --lights N spreads N lights over the scene's "
+                "upper box, --light X,Y,Z places one");
+        if (area_light)
+            throw Error("--area-light and --lights cannot be used together: the shadow rays go to one or the other");
+        if (mode != Mode::shadow)
+            throw Error("--lights applies to shadow rays only (--mode shadow), not to --mode " + mode_name);
+    }
+    if (area_light) {
+        if (light)
+            throw Error("--area-light and --light cannot be used together: the shadow rays go to one or the other");
+        if (mode != Mode::shadow)
+            throw Error("--area-light applies to shadow rays only (--mode shadow), not to --mode " + mode_name);
+    }
+}
+
+ShadowLights shadow_lights(const WorkloadConfig& config, const Box& bounds, const scenes::Camera& camera) {
+    ShadowLights s;
+    const auto upper = [&] {
+        Float3 up = camera.up;
+        if (!(dot(up, up) > 0.0f)) up = camera.basis().up;
+        return upper_box(bounds, up);
+    };
+    if (config.mode == Mode::shadow && config.area_light)
+        s.area = area_light(upper());
+    else if (config.mode == Mode::shadow && config.lights > 0)
+        s.points = spread_lights(upper(), config.lights);
+    else
+        s.points = {config.light ? *config.light : default_light(camera, bounds)};
+    return s;
+}
+
+RaySet make_mode_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits,
+                      const WorkloadConfig& config, const ShadowLights& lights) {
+    RaySet rays;
+    switch (config.mode) {
+        case Mode::primary:
+            rays = primary;
+            break;
+        case Mode::shadow:
+            if (lights.area)
+                rays = make_area_shadow_rays(scene, primary, hits, *lights.area);
+            else if (config.lights > 0)
+                rays = make_shadow_rays(scene, primary, hits, lights.points);
+            else
+                rays = make_shadow_rays(scene, primary, hits, lights.points.at(0));
+            break;
+        case Mode::ao:
+            rays = make_ao_rays(scene, primary, hits, config.ao_rays, config.ao_directions);
+            break;
+        case Mode::diffuse:
+            rays = make_diffuse_rays(scene, primary, hits);
+            break;
+    }
+    return config.order == Order::input ? rays : reorder(rays, config.order);
+}
+
+int point_lights(const Workload& w) { return w.mode == Mode::shadow ? w.lights.count() : 0; }
+
+std::string describe_rays(Mode mode, Order order, int point_lights, bool area_light) {
+    std::string text = std::string("mode ") + to_string(mode);
+    if (mode == Mode::shadow)
+        text += area_light ? " (area light)"
+                           : " (" + std::to_string(point_lights) + (point_lights == 1 ? " light)" : " lights)");
+    return text + ", order " + to_string(order);
+}
+
 void replace_rays(Workload& w, RaySet rays) {
     w.mode = rays.mode;
     w.rays = std::move(rays);
     w.reference_hits.clear();
     w.reference_occluded.clear();
-    if (w.mode == Mode::primary)
+    if (closest_hit(w.mode))
         w.reference_hits = oracle_hits(*w.oracle, w.rays);
     else
         w.reference_occluded = oracle_occlusion(*w.oracle, w.rays);
 }
 
-Workload make_workload(const WorkloadConfig& config) { return make_workload(scenes::load_scene(config.scene), config); }
+Workload make_workload(const WorkloadConfig& config) {
+    config.validate();
+    return make_workload(scenes::load_scene(config.scene), config);
+}
 
 Workload make_workload(scenes::SceneSource source, const WorkloadConfig& config) {
+    config.validate();
     Workload w(std::move(source));
     const Scene& scene = w.source.scene;
     w.camera = config.camera ? *config.camera : w.source.camera;
     w.light = config.light ? *config.light : default_light(w.camera, scene.bounds());
+    w.lights = shadow_lights(config, scene.bounds(), w.camera);
     w.mode = config.mode;
+    w.order = config.order;
     w.oracle = std::make_shared<oracle::EmbreeOracle>(scene);
     w.primary = make_primary_rays(w.camera, config.width, config.height);
     w.primary_hits = oracle_hits(*w.oracle, w.primary);
-    switch (config.mode) {
-        case Mode::primary:
-            w.rays = w.primary;
-            w.reference_hits = w.primary_hits;
-            break;
-        case Mode::shadow:
-            w.rays = make_shadow_rays(scene, w.primary, w.primary_hits, w.light);
-            w.reference_occluded = oracle_occlusion(*w.oracle, w.rays);
-            break;
-        case Mode::ao:
-            w.rays = make_ao_rays(scene, w.primary, w.primary_hits, config.ao_rays, config.ao_directions);
-            w.reference_occluded = oracle_occlusion(*w.oracle, w.rays);
-            break;
-    }
+    w.rays = make_mode_rays(scene, w.primary, w.primary_hits, config, w.lights);
+    if (config.mode == Mode::primary && config.order == Order::input)
+        w.reference_hits = w.primary_hits;
+    else if (closest_hit(config.mode))
+        w.reference_hits = oracle_hits(*w.oracle, w.rays);
+    else
+        w.reference_occluded = oracle_occlusion(*w.oracle, w.rays);
     return w;
 }
 
