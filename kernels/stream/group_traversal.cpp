@@ -36,17 +36,16 @@ struct GroupRays {
     alignas(16) float inv[3][16];
 };
 
-// One inner node for every lane in `lanes`: which lanes visit the lower and the upper child, and
-// their intervals there (the single-ray traversal's decisions, lane by lane).
-struct Split {
-    std::uint32_t lower = 0, upper = 0;
-    bool lower_first = true;  // the order of the leading lane
-    Intervals lo, up;
-};
-
-void split_lanes(const GroupRays& g, const Intervals& t, std::uint32_t lanes, int axis, float split_at, Split& s) {
+// One inner node for every lane in `lanes`: the single-ray traversal's decisions lane by lane. The
+// group goes on into `near` (the lower child when lower_first), whose lanes and intervals replace
+// `t` in place; the other child's go to `far`. Returns the lanes going near; far_lanes those going
+// far.
+std::uint32_t split_lanes(const GroupRays& g, Intervals& t, std::uint32_t lanes, int axis, float split_at,
+                          bool lower_first, Intervals& far, std::uint32_t& far_lanes) {
     const B split(split_at), ulp(1.0f / 1048576.0f), zero(0.0f);
-    const int lead = __builtin_ctz(lanes);
+    const M near_is_lower(lower_first);
+    std::uint32_t near_lanes = 0;
+    far_lanes = 0;
     for (int base = 0; base < 16; base += W) {
         if (((lanes >> base) & 0xFu) == 0) continue;
         const B o = B::load_unaligned(g.org[axis] + base), d = B::load_unaligned(g.dir[axis] + base);
@@ -56,21 +55,32 @@ void split_lanes(const GroupRays& g, const Intervals& t, std::uint32_t lanes, in
         // behind the origin swaps the order.
         const M lower_side = (o < split) | ((o == split) & (d > zero));
         const M first_lower = lower_side ^ (tp < zero);
+        const M second_lower = !first_lower;
         const M visits_first = !(tp < tmin - xsimd::abs(tmin) * ulp);
         const M visits_second = !(tp > tmax + xsimd::abs(tmax) * ulp);
         const M both = visits_first & visits_second & (tp == tp);
-        const M second_lower = !first_lower;
         const M lower = (first_lower & visits_first) | (second_lower & visits_second);
         const M upper = (first_lower & visits_second) | (second_lower & visits_first);
         const M on = sse::lanes_on(lanes >> base);
-        s.lower |= sse::bits_of(lower & on) << base;
-        s.upper |= sse::bits_of(upper & on) << base;
-        xsimd::select(both & second_lower, tp, tmin).store_aligned(s.lo.tmin + base);
-        xsimd::select(both & first_lower, tp, tmax).store_aligned(s.lo.tmax + base);
-        xsimd::select(both & first_lower, tp, tmin).store_aligned(s.up.tmin + base);
-        xsimd::select(both & second_lower, tp, tmax).store_aligned(s.up.tmax + base);
-        if (lead >= base && lead < base + W) s.lower_first = (sse::bits_of(first_lower) >> (lead - base)) & 1u;
+        const B lo_min = xsimd::select(both & second_lower, tp, tmin), lo_max = xsimd::select(both & first_lower, tp, tmax);
+        const B up_min = xsimd::select(both & first_lower, tp, tmin), up_max = xsimd::select(both & second_lower, tp, tmax);
+        const std::uint32_t lower_bits = sse::bits_of(lower & on), upper_bits = sse::bits_of(upper & on);
+        near_lanes |= (lower_first ? lower_bits : upper_bits) << base;
+        far_lanes |= (lower_first ? upper_bits : lower_bits) << base;
+        xsimd::select(near_is_lower, lo_min, up_min).store_aligned(t.tmin + base);
+        xsimd::select(near_is_lower, lo_max, up_max).store_aligned(t.tmax + base);
+        xsimd::select(near_is_lower, up_min, lo_min).store_aligned(far.tmin + base);
+        xsimd::select(near_is_lower, up_max, lo_max).store_aligned(far.tmax + base);
     }
+    return near_lanes;
+}
+
+// Whether lane i meets the lower child first (the single-ray traversal's order for that lane).
+bool lower_first_for(const GroupRays& g, int i, int axis, float split) {
+    const float o = g.org[axis][i], d = g.dir[axis][i];
+    const float tp = (split - o) * g.inv[axis][i];
+    const bool lower_side = o < split || (o == split && d > 0.0f);
+    return lower_side != (tp < 0.0f);
 }
 
 // Lanes whose interval starts beyond their closest hit (with the traversal's slack) leave.
@@ -137,25 +147,26 @@ private:
                 const KdNode& node = nodes[index];
                 if (!node.is_leaf()) {
                     if constexpr (kCount) ++counters_->stream.group_steps;
-                    Split s;
-                    split_lanes(rays_, t, lanes, node.axis(), node.split, s);
-                    const std::uint32_t lower_child = index + 1, upper_child = node.upper_child();
-                    const bool lower_first = s.lower == 0 ? false : s.upper == 0 ? true : s.lower_first;
-                    const std::uint32_t second_lanes = lower_first ? s.upper : s.lower;
-                    if (second_lanes != 0) {  // depth <= 60 (KdBuildRules): the stack never overflows
-                        stack[top].node = lower_first ? upper_child : lower_child;
-                        stack[top].lanes = second_lanes;
-                        stack[top].t = lower_first ? s.up : s.lo;
+                    // Near: the child the leading lane meets first. The far child's lanes go on the
+                    // stack (depth <= 60, KdBuildRules: it never overflows).
+                    const int axis = node.axis();
+                    const bool lower_first = lower_first_for(rays_, __builtin_ctz(lanes), axis, node.split);
+                    StackEntry& far = stack[top];
+                    std::uint32_t far_lanes = 0;
+                    lanes = split_lanes(rays_, t, lanes, axis, node.split, lower_first, far.t, far_lanes);
+                    if (far_lanes != 0) {
+                        far.node = lower_first ? node.upper_child() : index + 1;
+                        far.lanes = far_lanes;
                         ++top;
                     }
-                    index = lower_first ? lower_child : upper_child;
-                    lanes = lower_first ? s.lower : s.upper;
-                    t = lower_first ? s.lo : s.up;
-                    continue;
+                    index = lower_first ? index + 1 : node.upper_child();
+                    if (lanes != 0) continue;
                 }
-                visit_leaf(node, lanes);
-                if constexpr (kOcclusion)
-                    if (done_ == valid_) return;
+                else {
+                    visit_leaf(node, lanes);
+                    if constexpr (kOcclusion)
+                        if (done_ == valid_) return;
+                }
             }
             // The next cell from the stack, for the lanes still looking.
             for (;;) {

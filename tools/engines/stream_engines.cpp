@@ -61,7 +61,7 @@ public:
 
     nlohmann::json stats(const RaySet& rays) const override {
         const ActiveRays in = active_rays(rays);
-        const bool closest = rays.mode == Mode::primary;
+        const bool closest = closest_hit(rays.mode);
         EngineAnswers a;
         // One plain call timed (the share of sorting), one counted call (the counts and the sort time).
         const auto start = std::chrono::steady_clock::now();
@@ -132,7 +132,7 @@ public:
         native_.reset();
         prepared_.prepare(rays);
         prepared_mode_ = rays.mode;
-        const bool closest = rays.mode == Mode::primary;
+        const bool closest = closest_hit(rays.mode);
         const std::vector<Ray>& in = prepared_.active.rays;
         std::vector<std::uint32_t> order(in.size());
         stream_order(in, bounds_, closest, order, settings_);
@@ -176,7 +176,7 @@ public:
 private:
     // Embree's answers (per slot of the sorted packets) back to the ray set's slots.
     void spread(const RaySet& rays, EngineAnswers& answers) const {
-        const bool closest = rays.mode == Mode::primary;
+        const bool closest = closest_hit(rays.mode);
         answers.form = EngineAnswers::Form::slots;
         if (closest) {
             std::vector<Hit> sorted;
