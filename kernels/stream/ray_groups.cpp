@@ -56,7 +56,9 @@ void add_run(std::vector<RayGroup>& groups, std::uint32_t begin, std::uint32_t c
     // Equal parts of at most 16 (a run of 17 makes 9 + 8, not 16 + 1).
     const std::uint32_t parts = (count + 15) / 16;
     for (std::uint32_t p = 0; p < parts; ++p) {
-        const std::uint32_t b = begin + count * p / parts, e = begin + count * (p + 1) / parts;
+        // In 64 bits: count * p overflows 32 bits for runs of millions of rays (one light's).
+        const std::uint32_t b = begin + std::uint32_t(std::uint64_t(count) * p / parts);
+        const std::uint32_t e = begin + std::uint32_t(std::uint64_t(count) * (p + 1) / parts);
         groups.push_back({b, e - b, kind});
     }
 }

@@ -35,7 +35,7 @@ std::uint32_t spread2(std::uint32_t x) {
 std::uint32_t quantise(float x, int cells) {
     const float q = x * float(cells);
     if (!(q > 0.0f)) return 0;  // NaN too
-    return std::min(std::uint32_t(q), std::uint32_t(cells - 1));
+    return q < float(cells - 1) ? std::uint32_t(q) : std::uint32_t(cells - 1);  // never converts a huge float
 }
 
 Float3 far_end(const Ray& r) { return r.org + r.dir * r.tfar; }
@@ -126,15 +126,29 @@ int shared_point_of(const Ray& ray, const SharedPoints& shared) {
 
 void make_keys(std::span<const Ray> rays, const Box& scene_box, const SharedPoints& shared,
                std::span<std::uint32_t> keys) {
+    // morton_cell() with the divisions by the extent done once (the same cells but for rounding of
+    // the scale, which only moves points between neighbouring cells).
+    const Float3 e = scene_box.extent();
+    float scale[3];
+    for (int k = 0; k < 3; ++k) scale[k] = e[k] > 0.0f ? 1024.0f / e[k] : 0.0f;
+    const bool points = !shared.points.empty();
     for (std::size_t i = 0; i < rays.size(); ++i) {
         const Ray& r = rays[i];
         if (!describes_segment(r)) {
             keys[i] = kNoSegmentKey;
             continue;
         }
-        const int p = shared.points.empty() ? -1 : shared_point_of(r, shared);
-        keys[i] = p >= 0 ? kPencilBit | (std::uint32_t(p) << kPointShift) | octahedral_code(r.dir, 13)
-                         : morton_cell(r.org, scene_box);
+        const int p = points ? shared_point_of(r, shared) : -1;
+        if (p >= 0) {
+            keys[i] = kPencilBit | (std::uint32_t(p) << kPointShift) | octahedral_code(r.dir, 13);
+            continue;
+        }
+        std::uint32_t code = 0;
+        for (int k = 0; k < 3; ++k) {
+            const float q = (r.org[k] - scene_box.lower[k]) * scale[k];
+            code |= spread3(!(q > 0.0f) ? 0u : q < 1023.0f ? std::uint32_t(q) : 1023u) << k;
+        }
+        keys[i] = code;
     }
 }
 

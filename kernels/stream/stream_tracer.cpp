@@ -74,7 +74,12 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
              [&] { stream::sort_by_key(out.keys, out.order, out.sorted_keys, options.threads, out.scratch); });
     if (!groups) return;
     run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
-        for (std::size_t k = b; k < e; ++k) out.rays[k] = rays[out.order[k]];
+        // Random reads: fetch a few rays ahead so that their misses overlap.
+        constexpr std::size_t kAhead = 16;
+        for (std::size_t k = b; k < e; ++k) {
+            if (k + kAhead < e) __builtin_prefetch(&rays[out.order[k + kAhead]]);
+            out.rays[k] = rays[out.order[k]];
+        }
     });
     stream::cut_groups(out.rays, out.sorted_keys, out.order, s.min_group_rays, out.groups);
 }

@@ -65,6 +65,7 @@ TEST(StreamKeys, MortonCellsOfEqualPointsAreEqualAndOfFarPointsDiffer) {
     EXPECT_NE(morton_cell({0.1f, 0.4f, 0.5f}, b), morton_cell({0.9f, 0.4f, 0.5f}, b));
     EXPECT_EQ(morton_cell({-5.0f, -5.0f, -5.0f}, b), 0u);  // outside: clamped
     EXPECT_EQ(morton_cell({5.0f, 5.0f, 5.0f}, b), (1u << 30) - 1u);
+    EXPECT_EQ(morton_cell({1e30f, 1e30f, 1e30f}, b), (1u << 30) - 1u);
     EXPECT_EQ(morton_cell({NAN, 0.5f, 0.5f}, b) & 1u, 0u);  // NaN: the lowest cell on that axis
 }
 
