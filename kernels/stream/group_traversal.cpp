@@ -40,20 +40,33 @@ struct GroupRays {
 // group goes on into `near` (the lower child when lower_first), whose lanes and intervals replace
 // `t` in place; the other child's go to `far`. Returns the lanes going near; far_lanes those going
 // far.
+// kOneOrigin: every lane starts at lane `lead`'s origin, which does not lie in the plane (the
+// distance to the plane and the side are then the same for all lanes: computed once).
+template <bool kOneOrigin>
 std::uint32_t split_lanes(const GroupRays& g, Intervals& t, std::uint32_t lanes, int axis, float split_at,
                           bool lower_first, Intervals& far, std::uint32_t& far_lanes) {
     const B split(split_at), ulp(1.0f / 1048576.0f), zero(0.0f);
     const M near_is_lower(lower_first);
+    const int lead = __builtin_ctz(lanes);
+    const B to_plane(split_at - g.org[axis][lead]);
+    const M lead_below(g.org[axis][lead] < split_at);
     std::uint32_t near_lanes = 0;
     far_lanes = 0;
     for (int base = 0; base < 16; base += W) {
         if (((lanes >> base) & 0xFu) == 0) continue;
-        const B o = B::load_unaligned(g.org[axis] + base), d = B::load_unaligned(g.dir[axis] + base);
         const B tmin = B::load_aligned(t.tmin + base), tmax = B::load_aligned(t.tmax + base);
-        const B tp = (split - o) * B::load_aligned(g.inv[axis] + base);
+        B tp;
+        M lower_side;
         // The lower child first: the origin below the plane, or in it going up; a plane crossed
         // behind the origin swaps the order.
-        const M lower_side = (o < split) | ((o == split) & (d > zero));
+        if constexpr (kOneOrigin) {
+            tp = to_plane * B::load_aligned(g.inv[axis] + base);
+            lower_side = lead_below;
+        } else {
+            const B o = B::load_unaligned(g.org[axis] + base), d = B::load_unaligned(g.dir[axis] + base);
+            tp = (split - o) * B::load_aligned(g.inv[axis] + base);
+            lower_side = (o < split) | ((o == split) & (d > zero));
+        }
         const M first_lower = lower_side ^ (tp < zero);
         const M second_lower = !first_lower;
         const M visits_first = !(tp < tmin - xsimd::abs(tmin) * ulp);
@@ -133,6 +146,7 @@ public:
         Packet16 valid = group_;
         valid.active = lanes;
         packet_ = make_watertight_packet(valid);
+        one_origin_ = packet_.same_origin;
         traverse(lanes, t);
     }
 
@@ -153,7 +167,9 @@ private:
                     const bool lower_first = lower_first_for(rays_, __builtin_ctz(lanes), axis, node.split);
                     StackEntry& far = stack[top];
                     std::uint32_t far_lanes = 0;
-                    lanes = split_lanes(rays_, t, lanes, axis, node.split, lower_first, far.t, far_lanes);
+                    lanes = one_origin_ && rays_.org[axis][__builtin_ctz(lanes)] != node.split
+                                ? split_lanes<true>(rays_, t, lanes, axis, node.split, lower_first, far.t, far_lanes)
+                                : split_lanes<false>(rays_, t, lanes, axis, node.split, lower_first, far.t, far_lanes);
                     if (far_lanes != 0) {
                         far.node = lower_first ? node.upper_child() : index + 1;
                         far.lanes = far_lanes;
@@ -274,6 +290,7 @@ private:
     alignas(16) float best_[16] = {};
     std::uint32_t done_ = 0;
     std::uint32_t valid_ = 0;
+    bool one_origin_ = false;  // every valid lane starts at one point (bit for bit)
 };
 
 }  // namespace
