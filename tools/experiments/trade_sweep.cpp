@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <set>
+#include <tuple>
 
 #include "beamtrace/error.hpp"
 #include "beamtrace/vlf.hpp"
@@ -160,6 +161,17 @@ std::vector<TradeSetting> trade_settings(const Workload& w, const TradeOptions& 
         o.mlrta = m;
         add("mlrta", kd_settings(o.kd_rules) + " " + mlrta_settings(m), "mlrta" + suffix, o);
     }
+    // The stream tracer: sorted and grouped (default), with larger groups only, and unsorted (every
+    // ray alone: what sorting buys); Embree on its sorted order.
+    for (const auto& [label, sort, min_group] :
+         {std::tuple{"stream", true, 4}, std::tuple{"stream min 8", true, 8}, std::tuple{"stream unsorted", false, 4}}) {
+        EngineOptions o = base;
+        o.stream.sort = sort;
+        o.stream.min_group_rays = min_group;
+        add("stream", std::string("sort=") + (sort ? "on" : "off") + " min_group=" + std::to_string(min_group), label,
+            o);
+    }
+    add("embree-sorted", "the stream tracer's order, sort untimed", "embree-sorted", base);
     const double triangles = double(w.source.scene.triangle_count());
     for (const char* engine : {"vlf", "vlf-fast"}) {
         if (!wanted.count(engine)) continue;
