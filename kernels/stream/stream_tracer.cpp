@@ -38,6 +38,9 @@ namespace {
 
 using stream::RayGroup;
 constexpr std::size_t kGroupGrain = 256;
+// Pencil packets traced together (4: 64 rays, as MLRTA's blocks of 4x4 packets share one interval
+// traversal; docs/mlrta.md "Packets traced together").
+constexpr std::size_t kPencilBlock = 4;
 
 // The sorted order of a call: keys, order and groups.
 struct SortedStream {
@@ -106,10 +109,56 @@ public:
 
     template <bool kCount>
     void groups(std::size_t begin, std::size_t end, QueryCounters* c) const {
-        for (std::size_t g = begin; g < end; ++g) group<kCount>(sorted_.groups[g], c);
+        for (std::size_t g = begin; g < end;) {
+            if (sorted_.groups[g].kind == RayGroup::Kind::pencil) {
+                g = pencils<kCount>(g, end, c);
+                continue;
+            }
+            group<kCount>(sorted_.groups[g], c);
+            ++g;
+        }
     }
 
 private:
+    // Pencil groups from `first` (up to kPencilBlock of them through one point, neighbours in
+    // direction: the sort's order) as packets traced together by one interval traversal (the
+    // kd-tree's trace_packets_together: it goes packet by packet when they do not travel together).
+    // Occlusion packets are traced from their light when they end at one (MLRTA section 6). Returns
+    // the group after the block.
+    template <bool kCount>
+    std::size_t pencils(std::size_t first, std::size_t end, QueryCounters* c) const {
+        const std::uint32_t point = sorted_.sorted_keys[sorted_.groups[first].begin] >> stream::kPointShift;
+        std::size_t last = first + 1;
+        while (last < end && last - first < kPencilBlock && sorted_.groups[last].kind == RayGroup::Kind::pencil &&
+               (sorted_.sorted_keys[sorted_.groups[last].begin] >> stream::kPointShift) == point)
+            ++last;
+        const int n = int(last - first);
+        Packet16 packets[kPencilBlock];
+        const Packet16* traced[kPencilBlock] = {};
+        PacketHits16 hits[kPencilBlock];
+        PacketHits16* hits_of[kPencilBlock] = {};
+        std::uint32_t bits[kPencilBlock] = {};
+        std::uint32_t* bits_of[kPencilBlock] = {};
+        for (int k = 0; k < n; ++k) {
+            const RayGroup& g = sorted_.groups[first + std::size_t(k)];
+            if constexpr (kCount) {
+                ++c->stream.pencil_packets;
+                c->stream.pencil_rays += g.count;
+            }
+            const Packet16 p = packet_of(sorted_.rays.data() + g.begin, g.count);
+            if (!kOcclusion || !mlrta::reverse_for_occlusion(p, tolerance_, packets[k])) packets[k] = p;
+            traced[k] = &packets[k];
+            hits_of[k] = &hits[k];
+            bits_of[k] = &bits[k];
+        }
+        kdtree::trace_packets_together<kOcclusion, kCount>(context_, traced, n, root_, hits_of, bits_of, c);
+        for (int k = 0; k < n; ++k) {
+            const RayGroup& g = sorted_.groups[first + std::size_t(k)];
+            write_packet(sorted_.order.data() + g.begin, g.count, &hits[k], bits[k]);
+        }
+        return last;
+    }
+
     template <bool kCount>
     void group(const RayGroup& g, QueryCounters* c) const {
         const std::uint32_t* order = sorted_.order.data() + g.begin;
@@ -123,25 +172,8 @@ private:
                 for (std::uint32_t i = 0; i < g.count; ++i)
                     write(order[i], kdtree::traverse_ray<kOcclusion, kCount>(kd_, rays[i], c));
                 return;
-            case RayGroup::Kind::pencil: {
-                if constexpr (kCount) {
-                    ++c->stream.pencil_packets;
-                    c->stream.pencil_rays += g.count;
-                }
-                Packet16 p = packet_of(rays, g.count);
-                if constexpr (kOcclusion) {
-                    Packet16 back;
-                    const Packet16& traced = mlrta::reverse_for_occlusion(p, tolerance_, back) ? back : p;
-                    std::uint32_t bits = 0;
-                    kdtree::trace_packet<true, kCount>(context_, traced, root_, nullptr, &bits, c);
-                    write_packet(order, g.count, nullptr, bits);
-                } else {
-                    PacketHits16 hits;
-                    kdtree::trace_packet<false, kCount>(context_, p, root_, &hits, nullptr, c);
-                    write_packet(order, g.count, &hits, 0);
-                }
+            case RayGroup::Kind::pencil:  // groups() traces pencils in blocks
                 return;
-            }
             case RayGroup::Kind::origin: {
                 if constexpr (kCount) {
                     ++c->stream.origin_groups;
