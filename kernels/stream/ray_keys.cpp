@@ -140,7 +140,7 @@ void make_keys(std::span<const Ray> rays, const Box& scene_box, const SharedPoin
         }
         const int p = points ? shared_point_of(r, shared) : -1;
         if (p >= 0) {
-            keys[i] = kPencilBit | (std::uint32_t(p) << kPointShift) | octahedral_code(r.dir, 13);
+            keys[i] = kPencilBit | (std::uint32_t(p) << kPointShift) | octahedral_code(r.dir, kPencilDirectionBits);
             continue;
         }
         std::uint32_t code = 0;

@@ -2,8 +2,9 @@
 // The hashing step of the stream tracer (CRSH's ray hashing, tuned by ray kind; docs/streams.md):
 // one 32-bit key per ray, so that a sort puts rays that can be traced together next to each other.
 //
-//   bit 31 = 1: a ray through a shared point (it starts there, or ends there): bits 26..30 the point,
-//               bits 0..25 the octahedral code of its direction (13 bits per coordinate, interleaved)
+//   bit 31 = 1: a ray through a shared point (it starts there, or ends there): bits 20..23 the point,
+//               bits 0..19 the octahedral code of its direction (10 bits per coordinate, interleaved;
+//               a stream of rays through up to 4 points then sorts in two radix passes, not three)
 //   bit 31 = 0: any other ray: bits 0..29 the Morton code of its origin's cell (1024 cells per axis
 //               of the scene box); rays with one origin get one key
 //   0xFFFFFFFF: a ray that describes no segment (ray.hpp), answered without tracing
@@ -18,7 +19,8 @@ namespace beamtrace::stream {
 
 inline constexpr std::uint32_t kPencilBit = 1u << 31;
 inline constexpr std::uint32_t kNoSegmentKey = 0xFFFFFFFFu;
-inline constexpr int kPointShift = 26;
+inline constexpr int kPointShift = 20;
+inline constexpr int kPencilDirectionBits = 10;  // per coordinate
 
 // A point many rays of a stream pass through: their common origin (a camera) or the point they end
 // at (a point light: the far end org + tfar * dir lies within `radius` of it).
