@@ -271,10 +271,15 @@ private:
         hits_->set_hit(i, Hit{t, id, u, v});
     }
 
-    WatertightRay lane_ray(int i) const {
-        Ray r = group_.ray(i);
-        r.tfar = best_[i];
-        return make_watertight_ray(r);
+    // Lane i's set-up for the single-ray kernels, made on its first use (tfar: its closest hit).
+    WatertightRay lane_ray(int i) {
+        if (!((made_ >> i) & 1u)) {
+            wrays_[i] = make_watertight_ray(group_.ray(i));
+            made_ |= 1u << i;
+        }
+        WatertightRay w = wrays_[i];
+        w.tfar = best_[i];
+        return w;
     }
 
     std::uint32_t group_active() const { return valid_ & ~done_; }
@@ -291,6 +296,8 @@ private:
     std::uint32_t done_ = 0;
     std::uint32_t valid_ = 0;
     bool one_origin_ = false;  // every valid lane starts at one point (bit for bit)
+    WatertightRay wrays_[16];
+    std::uint32_t made_ = 0;  // lanes whose wrays_ entry is made
 };
 
 }  // namespace
