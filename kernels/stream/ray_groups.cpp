@@ -5,6 +5,8 @@
 #include <bit>
 #include <tuple>
 
+#include <tbb/parallel_for.h>
+
 #include "stream/ray_keys.hpp"
 
 namespace beamtrace::stream {
@@ -65,38 +67,69 @@ void add_run(std::vector<RayGroup>& groups, std::uint32_t begin, std::uint32_t c
 
 }  // namespace
 
-void cut_groups(std::span<Ray> rays, std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
-                int min_group_rays, std::vector<RayGroup>& groups) {
-    groups.clear();
-    const std::uint32_t n = std::uint32_t(order.size());
-    const std::uint32_t min_rays = std::uint32_t(min_group_rays);
+namespace {
+
+// cut_groups() over the sorted range [begin, end), which starts and ends at changes of key.
+void cut_range(std::span<Ray> rays, std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
+               std::uint32_t begin, std::uint32_t end, std::uint32_t min_rays, std::vector<RayGroup>& groups) {
     std::vector<std::uint32_t> local;
     std::vector<Ray> cell_rays;
     std::vector<std::uint32_t> cell_order;
-    std::uint32_t k = 0;
-    while (k < n) {
-        const std::uint32_t key = keys[k];
-        std::uint32_t e = k + 1;
-        RayGroup::Kind kind;
-        if (key == kNoSegmentKey) {
-            while (e < n && keys[e] == kNoSegmentKey) ++e;
-            kind = RayGroup::Kind::no_segment;
-        } else if (key & kPencilBit) {
-            const std::uint32_t point = key >> kPointShift;
-            while (e < n && (keys[e] >> kPointShift) == point) ++e;
-            kind = RayGroup::Kind::pencil;
-        } else {
-            std::uint32_t cell_end = k + 1;
-            while (cell_end < n && keys[cell_end] == key) ++cell_end;
-            if (cell_end - k > 1) sort_by_origin(rays, order, k, cell_end, local, cell_rays, cell_order);
-            const Ray& first = rays[k];
-            while (e < n && keys[e] == key && same_origin(rays[e], first)) ++e;
-            kind = RayGroup::Kind::origin;
-        }
+    const auto add = [&](std::uint32_t k, std::uint32_t e, RayGroup::Kind kind) {
         if (kind != RayGroup::Kind::no_segment && e - k < min_rays) kind = RayGroup::Kind::single;
         add_run(groups, k, e - k, kind);
+    };
+    std::uint32_t k = begin;
+    while (k < end) {
+        const std::uint32_t key = keys[k];
+        std::uint32_t e = k + 1;
+        if (key == kNoSegmentKey) {
+            while (e < end && keys[e] == kNoSegmentKey) ++e;
+            add(k, e, RayGroup::Kind::no_segment);
+        } else if (key & kPencilBit) {
+            const std::uint32_t point = key >> kPointShift;
+            while (e < end && (keys[e] >> kPointShift) == point) ++e;
+            add(k, e, RayGroup::Kind::pencil);
+        } else {
+            // One origin cell: its rays in order of their exact origins, then each origin's run.
+            while (e < end && keys[e] == key) ++e;
+            if (e - k > 1) sort_by_origin(rays, order, k, e, local, cell_rays, cell_order);
+            for (std::uint32_t r = k; r < e;) {
+                std::uint32_t run_end = r + 1;
+                while (run_end < e && same_origin(rays[run_end], rays[r])) ++run_end;
+                add(r, run_end, RayGroup::Kind::origin);
+                r = run_end;
+            }
+        }
         k = e;
     }
+}
+
+}  // namespace
+
+void cut_groups(std::span<Ray> rays, std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
+                int min_group_rays, std::vector<RayGroup>& groups, int parts) {
+    groups.clear();
+    const std::uint32_t n = std::uint32_t(order.size());
+    parts = std::max(1, std::min(parts, int(n / 65536) + 1));
+    // Parts start at changes of key (an origin cell is never cut; a shared point's run may be).
+    std::vector<std::uint32_t> bounds(std::size_t(parts) + 1, n);
+    bounds[0] = 0;
+    for (int p = 1; p < parts; ++p) {
+        std::uint32_t b = std::max(bounds[std::size_t(p - 1)], std::uint32_t(std::uint64_t(n) * std::uint64_t(p) / std::uint64_t(parts)));
+        while (b > 0 && b < n && keys[b] == keys[b - 1]) ++b;
+        bounds[std::size_t(p)] = b;
+    }
+    if (parts == 1) {
+        cut_range(rays, keys, order, 0, n, std::uint32_t(min_group_rays), groups);
+        return;
+    }
+    std::vector<std::vector<RayGroup>> cut(static_cast<std::size_t>(parts));
+    tbb::parallel_for(0, parts, [&](int p) {
+        cut_range(rays, keys, order, bounds[std::size_t(p)], bounds[std::size_t(p) + 1], std::uint32_t(min_group_rays),
+                  cut[std::size_t(p)]);
+    });
+    for (const auto& c : cut) groups.insert(groups.end(), c.begin(), c.end());
 }
 
 }  // namespace beamtrace::stream

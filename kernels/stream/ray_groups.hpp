@@ -23,8 +23,8 @@ struct RayGroup {
 // key, origins equal bit for bit) become groups of at most 16 when they hold at least
 // min_group_rays rays; everything else becomes runs of single rays. Rays of one origin key (one
 // cell) are first put in order of their origins (stable; rays and order alike), so that rays of one
-// origin meet.
+// origin meet. On `parts` threads of the caller's TBB arena (parts start at changes of key).
 void cut_groups(std::span<Ray> rays, std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
-                int min_group_rays, std::vector<RayGroup>& groups);
+                int min_group_rays, std::vector<RayGroup>& groups, int parts = 1);
 
 }  // namespace beamtrace::stream

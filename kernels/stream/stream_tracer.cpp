@@ -84,7 +84,9 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
             out.rays[k] = rays[out.order[k]];
         }
     });
-    stream::cut_groups(out.rays, out.sorted_keys, out.order, s.min_group_rays, out.groups);
+    in_arena(options.threads, [&] {
+        stream::cut_groups(out.rays, out.sorted_keys, out.order, s.min_group_rays, out.groups, options.threads);
+    });
 }
 
 // The rays of a group as a packet (lanes 0 .. count).

@@ -5,6 +5,8 @@
 #include <numeric>
 #include <vector>
 
+#include <tbb/task_arena.h>
+
 #include "stream/ray_groups.hpp"
 #include "stream/ray_keys.hpp"
 
@@ -37,6 +39,32 @@ TEST(StreamGroups, LongRunsOfOnePointMakeGroupsOfAtMost16) {
     cut_groups(rays, keys, order, 4, groups);
     expect_partition(groups, n);
     EXPECT_EQ(groups.size(), (n + 15) / 16);
+    // On two threads: parts cut apart, still every ray once, groups of at most 16.
+    tbb::task_arena arena(2);
+    arena.execute([&] { cut_groups(rays, keys, order, 4, groups, 2); });
+    expect_partition(groups, n);
+}
+
+TEST(StreamGroups, PartsNeverCutAnOriginCell) {
+    // Many cells of 20 rays with one origin each: on two threads every group still has one origin.
+    std::vector<Ray> rays;
+    std::vector<std::uint32_t> keys;
+    for (std::uint32_t c = 0; c < 20000; ++c)
+        for (int i = 0; i < 20; ++i) {
+            rays.push_back(Ray{{float(c), 0, 0}, 0.0f, {1, 0, float(i)}, 1.0f});
+            keys.push_back(c);
+        }
+    std::vector<std::uint32_t> order(rays.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::vector<RayGroup> groups;
+    tbb::task_arena arena(2);
+    arena.execute([&] { cut_groups(rays, keys, order, 4, groups, 2); });
+    expect_partition(groups, std::uint32_t(rays.size()));
+    EXPECT_EQ(groups.size(), 40000u);  // 20 rays: 10 + 10
+    for (const RayGroup& g : groups) {
+        EXPECT_EQ(g.kind, RayGroup::Kind::origin);
+        EXPECT_EQ(rays[g.begin].org.x, rays[g.begin + g.count - 1].org.x);
+    }
 }
 
 TEST(StreamGroups, RaysOfOneOriginMeetInTheirCell) {
