@@ -44,19 +44,22 @@ class CrshEngines : public ::testing::TestWithParam<std::string> {};
 TEST_P(CrshEngines, AgreeWithEmbreeAndBruteForce) {
     const scenes::SceneSource source = scenes::load_scene(GetParam());
     ASSERT_FALSE(source.object_of_triangle.empty());
-    const auto crsh = built("crsh", source), rah = built("rah", source), brute = built("brute", source);
+    const auto crsh = built("crsh", source), rah = built("rah", source);
+    // Brute force where it is quick (the oracle's comparison covers the rest).
+    const bool small = source.scene.triangle_count() <= 5000;
+    const auto brute = small ? built("brute", source) : nullptr;
     for (const auto& [camera_name, camera] : test::cameras_for(source))
         for (Mode mode : {Mode::primary, Mode::shadow, Mode::ao}) {
             WorkloadConfig config;
             config.camera = camera;
             config.mode = mode;
-            config.width = config.height = mode == Mode::ao ? 24 : 48;
+            config.width = config.height = mode == Mode::ao ? 24 : 40;
             config.ao_rays = 4;
             const Workload w = make_workload(source, config);
             const std::string what = GetParam() + " " + camera_name + " " + to_string(mode);
             for (const Engine* e : {crsh.get(), rah.get()}) {
                 test::expect_no_mismatch(check_against_oracle(*e, w, 2), e->name() + " " + what);
-                expect_same_answers(*e, *brute, w, e->name() + " " + what);
+                if (brute) expect_same_answers(*e, *brute, w, e->name() + " " + what);
             }
         }
     WorkloadConfig config;
@@ -83,7 +86,7 @@ TEST(CrshEngineBudget, RefusesWorkOverTheBudgetUpFront) {
     config.width = config.height = 64;
     const Workload w = make_workload(source, config);
     EngineOptions tight;
-    tight.crsh_budget = 1000;
+    tight.crsh_budget = 10;
     for (const char* name : {"crsh", "rah"}) {
         const auto e = built(name, source, tight);
         try {

@@ -5,8 +5,8 @@
 namespace beamtrace::workload {
 
 const std::vector<std::string>& engine_names() {
-    static const std::vector<std::string> names = {"embree1", "embree16", "embree-stream", "brute",   "kd1",
-                                                   "kd16",    "mlrta",    "vlf",           "vlf-fast"};
+    static const std::vector<std::string> names = {"embree1", "embree16", "embree-stream", "brute", "kd1", "kd16",
+                                                   "mlrta",   "vlf",      "vlf-fast",      "crsh",  "rah"};
     return names;
 }
 
@@ -20,6 +20,8 @@ std::unique_ptr<Engine> make_engine(const std::string& name) {
     if (name == "mlrta") return make_mlrta_engine();
     if (name == "vlf") return make_vlf_engine(false);
     if (name == "vlf-fast") return make_vlf_engine(true);
+    if (name == "crsh") return make_crsh_engine(true);
+    if (name == "rah") return make_crsh_engine(false);
     std::string known;
     for (const std::string& n : engine_names()) known += (known.empty() ? "" : ", ") + n;
     throw Error("unknown engine '" + name + "' (known: " + known + ")");

@@ -13,6 +13,8 @@ std::unique_ptr<Engine> make_kd1_engine();
 std::unique_ptr<Engine> make_kd16_engine();
 std::unique_ptr<Engine> make_mlrta_engine();
 std::unique_ptr<Engine> make_vlf_engine(bool fast);
+// crsh (sort = true: CRSH with object spheres) or rah (Roger et al.: input order, no object spheres).
+std::unique_ptr<Engine> make_crsh_engine(bool sort);
 
 // The statistics kd16 and mlrta report alike (the paper's Tables 2 and 3): cells, entry-point
 // cells and intersections per packet and the other packet counters; and MLRTA's settings.
