@@ -49,6 +49,11 @@ struct CrshSettings {
     // every triangle against every top node (RAH).
     bool object_spheres = true;
     CrshKey key = CrshKey::origin;
+    // Not in the paper (the notes' proposal): also cull by the segments' lengths. A node whose rays
+    // run at most L from their starts cannot reach a sphere farther than (node radius + L + sphere
+    // radius) from its centre, whatever its cone; this culls for short rays (AO) even with cones of
+    // 90 degrees and more, which accept everything otherwise. Off: the paper's half-infinite cones.
+    bool segment_bound = false;
     // Bits per axis of the quantised position in the key (0..10): the position in the scene's box, in
     // Morton order, above 31 bits of direction (cube face, then Morton order of the face coordinates).
     int key_position_bits = 10;

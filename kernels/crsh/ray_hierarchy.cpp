@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <limits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -43,7 +44,11 @@ RayNode leaf_node(std::span<const BoundingRay> rays) {
         hi = Vec3d(std::max(hi.x, b.start.x), std::max(hi.y, b.start.y), std::max(hi.z, b.start.z));
     }
     node.centre = (lo + hi) * 0.5;
-    for (const BoundingRay& b : rays) node.radius = std::max(node.radius, length(b.start - node.centre) * kPad);
+    node.length = 0.0;
+    for (const BoundingRay& b : rays) {
+        node.radius = std::max(node.radius, length(b.start - node.centre) * kPad);
+        node.length = std::max(node.length, b.length);
+    }
     std::array<Vec3d, 64> dirs;
     const std::size_t n = std::min<std::size_t>(rays.size(), dirs.size());
     for (std::size_t i = 0; i < n; ++i) dirs[i] = rays[i].dir;
@@ -61,9 +66,11 @@ RayNode merged_node(std::span<const RayNode> children) {
     node.centre = sum * (1.0 / static_cast<double>(children.size()));
     std::array<Cone, 64> cones;
     const std::size_t n = std::min<std::size_t>(children.size(), cones.size());
+    node.length = 0.0;
     for (std::size_t i = 0; i < children.size(); ++i) {
         const RayNode& c = children[i];
         node.radius = std::max(node.radius, (length(c.centre - node.centre) + c.radius) * kPad);
+        node.length = std::max(node.length, c.length);  // the radius already reaches every child's starts
         if (i < n) cones[i] = c.cone;
     }
     node.cone = merge_cones(std::span<const Cone>(cones.data(), n));
@@ -122,6 +129,7 @@ RayHierarchy build_ray_hierarchy(std::span<const Ray> rays, const CrshSettings& 
             const std::size_t first = j * f, count = std::min(f, n - first);
             for (std::size_t i = 0; i < count; ++i) group[i] = bounds[settings.sort ? slot[first + i] : first + i];
             leaves[j] = leaf_node(std::span<const BoundingRay>(group.data(), count));
+            if (!settings.segment_bound) leaves[j].length = std::numeric_limits<double>::infinity();
             leaves[j].first = static_cast<std::uint32_t>(first);
             leaves[j].count = static_cast<std::uint32_t>(count);
         }

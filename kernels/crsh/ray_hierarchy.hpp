@@ -26,7 +26,7 @@ RayHierarchy build_ray_hierarchy(std::span<const Ray> rays, const CrshSettings& 
 
 // A level-1 node over bounding rays (not empty): the sphere about the box centre of the starts,
 // reaching the farthest; Szecsi's cone of the directions, its spread then the largest angle from its
-// axis (never wider than Szecsi's, docs/crsh.md).
+// axis (never wider than Szecsi's, docs/crsh.md); the longest of their lengths.
 RayNode leaf_node(std::span<const BoundingRay> rays);
 // A node over nodes (not empty): the notes' merge of spheres (mean centre, farthest reach) and cones.
 RayNode merged_node(std::span<const RayNode> children);

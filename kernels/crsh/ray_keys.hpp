@@ -4,6 +4,7 @@
 // point quantised in the scene's box, in Morton order, above a direction code without the seam of
 // spherical coordinates (cube face, then Morton order of the two face coordinates).
 #include <cstdint>
+#include <limits>
 
 #include "beamtrace/crsh.hpp"
 #include "beamtrace/ray.hpp"
@@ -13,10 +14,12 @@ namespace beamtrace::crsh {
 
 // Every point of the ray's segment is start + s * dir for some s >= 0 (dir unit, start computed in
 // double: org + tnear * dir, or org + tfar * dir with dir reversed for CrshKey::end_point when tfar
-// is finite). The ray must describe a segment.
+// is finite). The ray must describe a segment. length: how far the segment runs from start (in the
+// units of the unit dir, rounded up), infinite for an infinite tfar.
 struct BoundingRay {
     Vec3d start;
     Vec3d dir;
+    double length = std::numeric_limits<double>::infinity();
 };
 BoundingRay bounding_ray(const Ray& ray, CrshKey key);
 

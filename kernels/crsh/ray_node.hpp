@@ -4,6 +4,7 @@
 // the complete conservative form of the notes), which keeps a bounding sphere that some ray of the
 // node may reach.
 #include <cstdint>
+#include <limits>
 
 #include "crsh/cone.hpp"
 #include "crsh/vec3d.hpp"
@@ -19,6 +20,9 @@ struct RayNode {
     double cos_spread = 1.0, sin_spread = 0.0;
     bool wide = false;
     double rounding = 0.0;  // absolute slack for the double arithmetic about a far-off centre
+    // The longest distance a ray of the node runs from its start (CrshSettings::segment_bound);
+    // infinite: no bound (the paper's half-infinite rays).
+    double length = std::numeric_limits<double>::infinity();
     // Level 1: rays first .. first + count - 1 of the sorted order. Above: those children of the level below.
     std::uint32_t first = 0, count = 0;
 };
@@ -43,9 +47,15 @@ inline void finish_node(RayNode& n) {
 //   otherwise                                 keep iff rho cos(alpha) - s sin(alpha) <= R
 // (p inside K makes the left side negative). Computed in double with squares instead of roots, and a
 // margin far above double rounding (1e-9 relative), so that nothing a ray can reach is culled.
+// With a finite length L (segment bound), first: keep only if |v| <= R + L, for any cone.
 inline bool sphere_meets_node(const RayNode& n, double px, double py, double pz, double r) {
-    if (n.wide) return true;
     const double vx = px - n.centre.x, vy = py - n.centre.y, vz = pz - n.centre.z;
+    if (n.length < std::numeric_limits<double>::infinity()) {
+        const double far = n.radius + r + n.length;
+        const double m = far * (1.0 + 1e-9) + n.rounding + 1e-14 * (std::fabs(px) + std::fabs(py) + std::fabs(pz));
+        if (vx * vx + vy * vy + vz * vz > m * m) return false;
+    }
+    if (n.wide) return true;
     const Vec3d& a = n.cone.axis;
     const double s = vx * a.x + vy * a.y + vz * a.z;
     const double wx = vy * a.z - vz * a.y, wy = vz * a.x - vx * a.z, wz = vx * a.y - vy * a.x;

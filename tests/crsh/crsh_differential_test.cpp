@@ -95,6 +95,12 @@ std::vector<Variant> variants() {
     CrshSettings coarse;
     coarse.key_position_bits = 0;
     v.push_back({"direction-only keys", coarse});
+    CrshSettings bounded;
+    bounded.segment_bound = true;
+    bounded.key_position_bits = 3;
+    v.push_back({"segment bound", bounded});
+    rah.segment_bound = true;
+    v.push_back({"rah, segment bound", rah});
     return v;
 }
 

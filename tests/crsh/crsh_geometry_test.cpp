@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 
@@ -157,8 +158,9 @@ TEST(CrshCones, MergedConesHoldTheirChildren) {
 }
 
 // The property of the whole method: for random nodes of every coherence (one origin or a cloud of
-// them, directions within 1e-6 rad up to the whole sphere), levels 1 and 2, and triangles placed on
-// and around the rays, a triangle that some ray of the node hits is never culled.
+// them, directions within 1e-6 rad up to the whole sphere), levels 1 and 2, with and without the
+// segment bound, and triangles placed on and around the rays, a triangle that some ray of the node
+// hits is never culled.
 TEST(CrshSphereCone, NeverCullsATriangleARayOfTheNodeHits) {
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
@@ -181,13 +183,16 @@ TEST(CrshSphereCone, NeverCullsATriangleARayOfTheNodeHits) {
                 r.org = centre + Float3{u(rng), u(rng), u(rng)} * cloud;
                 r.dir = to_float(near_direction(rng, axis, spread)) * (0.5f + t01(rng));
                 r.tnear = i % 3 == 0 ? -0.5f * t01(rng) : 0.1f * t01(rng);
-                r.tfar = i % 4 == 0 ? kInfinity : 1.0f + 5.0f * t01(rng);
+                r.tfar = trial % 3 == 0 && i % 4 == 0 ? kInfinity : 1.0f + 5.0f * t01(rng);
                 rays.push_back(r);
                 b.push_back(bounding_ray(r, key));
             }
             leaves.push_back(leaf_node(b));
             leaves.back().first = std::uint32_t(8 * k);
             leaves.back().count = 8;
+        }
+        if (trial % 2) {  // half the trials without the segment bound (the paper's half-infinite cones)
+            for (RayNode& n : leaves) n.length = std::numeric_limits<double>::infinity();
         }
         const RayNode top = merged_node(leaves);
         for (int j = 0; j < 60; ++j) {
@@ -257,6 +262,21 @@ TEST(CrshKeys, DirectionCodesHaveNoSeamAtTheAzimuthWrap) {
         (f / 2 == 0 ? d.x : f / 2 == 1 ? d.y : d.z) = f % 2 ? -1.0 : 1.0;
         EXPECT_EQ(direction_code(unit(d)) >> (2 * kDirectionBits), std::uint32_t(f));
     }
+}
+
+TEST(CrshSphereCone, TheSegmentBoundCullsBeyondTheLongestSegmentEvenForWideCones) {
+    std::vector<BoundingRay> b;
+    for (int i = 0; i < 8; ++i) {
+        const double a = 2.0 * kPi * i / 8;
+        b.push_back({Vec3d(0, 0, 0), Vec3d(std::cos(a), std::sin(a), 0), 2.0});  // a fan: a wide cone
+    }
+    RayNode node = leaf_node(b);
+    EXPECT_TRUE(node.wide);
+    EXPECT_GE(node.length, 2.0);
+    EXPECT_TRUE(sphere_meets_node(node, 2.5, 0.0, 0.0, 0.6));
+    EXPECT_FALSE(sphere_meets_node(node, 2.5, 0.0, 0.0, 0.4));
+    node.length = std::numeric_limits<double>::infinity();
+    EXPECT_TRUE(sphere_meets_node(node, 2.5, 0.0, 0.0, 0.4));
 }
 
 TEST(CrshKeys, EndPointKeysBoundShadowRaysFromTheLight) {

@@ -124,6 +124,11 @@ std::function<void()> add_bench_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--crsh-levels", args->crsh.levels, "crsh, rah: levels of nodes above the rays (the paper's depth)")
         ->capture_default_str();
+    cmd->add_option("--crsh-key-bits", args->crsh.key_position_bits,
+                    "crsh: bits per axis of the position in a ray's key, above its direction (0-10)")
+        ->capture_default_str();
+    cmd->add_flag("--crsh-segment-bound", args->crsh.segment_bound,
+                  "crsh, rah: also cull by the rays' segment lengths (not in the paper: docs/crsh.md)");
     cmd->add_option("--crsh-budget", args->crsh_budget_millions,
                     "crsh, rah: refuse ray sets whose predicted top-level sphere tests (top nodes x (objects + "
                     "triangles of the largest object) for crsh, top nodes x triangles for rah) exceed this many "

@@ -103,6 +103,7 @@ public:
                 {"object_spheres", settings.object_spheres},
                 {"key", settings.key == CrshKey::end_point ? "end_point" : "origin"},
                 {"key_position_bits", settings.key_position_bits},
+                {"segment_bound", settings.segment_bound},
                 {"objects", s.objects},
                 {"largest_object", s.largest_object},
                 {"degenerate_triangles", s.degenerate_triangles},

@@ -51,7 +51,7 @@ std::string scene_spec_help() {
     help += "room | room:SEED    furnished classroom of about 1M triangles (default seed " +
             to_string(kDefaultRoomSeed) + ")\n";
     help += "room-lite[:SEED]    the same room, desk objects " + to_string(kRoomLiteCoarseness) +
-            "x coarser per direction (about 30k triangles)\n";
+            "x coarser per direction (about 19k triangles)\n";
     help += "PATH                a mesh file: OBJ, PLY, OFF, STL, glTF, ... (through Assimp)";
     return help;
 }
