@@ -46,14 +46,14 @@ struct QueryCounters {
     // `fanout` rays). The paper's metric is object_sphere_tests + sphere_cone_tests + triangle_tests.
     struct Crsh {
         static constexpr int kMaxLevels = 4;
-        std::uint64_t rays = 0;                   // rays in hierarchies (those that describe a segment)
-        std::uint64_t nodes[kMaxLevels] = {};     // nodes built per level
-        std::uint64_t object_sphere_tests = 0;    // top nodes x object bounding spheres
-        std::uint64_t object_sphere_hits = 0;     // of which kept (their triangles become candidates)
-        std::uint64_t sphere_cone_tests = 0;      // triangle bounding spheres against nodes, every level
+        std::uint64_t rays = 0;                      // rays in hierarchies (those that describe a segment)
+        std::uint64_t nodes[kMaxLevels] = {};        // nodes built per level
+        std::uint64_t object_sphere_tests = 0;       // top nodes x object bounding spheres
+        std::uint64_t object_sphere_hits = 0;        // of which kept (their triangles become candidates)
+        std::uint64_t sphere_cone_tests = 0;         // triangle bounding spheres against nodes, every level
         std::uint64_t level_tests[kMaxLevels] = {};  // of those, per level
         std::uint64_t level_hits[kMaxLevels] = {};   // (node, triangle) pairs kept per level
-        std::uint64_t triangle_tests = 0;         // ray/triangle tests of the final stage
+        std::uint64_t triangle_tests = 0;            // ray/triangle tests of the final stage
         // Wall-clock nanoseconds of the phases of counted calls: keys (bounding points, directions,
         // hashes), the radix sort, the nodes, the traversal with the final tests.
         std::uint64_t key_ns = 0, sort_ns = 0, hierarchy_ns = 0, traversal_ns = 0;

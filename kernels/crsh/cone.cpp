@@ -55,7 +55,8 @@ Cone merge_cones(std::span<const Cone> children) {
     // Axes that (nearly) cancel out give no direction worth trusting.
     if (!(sum_length > 1e-9 * static_cast<double>(children.size()))) return Cone{children.front().axis, kPi};
     Cone merged{sum * (1.0 / sum_length), 0.0};
-    for (const Cone& c : children) merged.spread = std::max(merged.spread, angle_between(merged.axis, c.axis) + c.spread);
+    for (const Cone& c : children)
+        merged.spread = std::max(merged.spread, angle_between(merged.axis, c.axis) + c.spread);
     merged.spread = std::min(merged.spread, kPi);
     return merged;
 }

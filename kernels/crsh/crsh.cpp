@@ -27,11 +27,13 @@ void trace(const Crsh::Impl& impl, const CrshSettings& settings, std::span<const
         const crsh::RayHierarchy h = crsh::build_ray_hierarchy(rays, settings, impl.scene.bounds(), parallel, counters);
         if (counters) {
             const auto start = std::chrono::steady_clock::now();
-            crsh::traverse<kOcclusion, true>(impl, settings.object_spheres, rays, h, hits, occluded, parallel, counters);
+            crsh::traverse<kOcclusion, true>(impl, settings.object_spheres, rays, h, hits, occluded, parallel,
+                                             counters);
             counters->crsh.traversal_ns += static_cast<std::uint64_t>(
                 std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count());
         } else {
-            crsh::traverse<kOcclusion, false>(impl, settings.object_spheres, rays, h, hits, occluded, parallel, nullptr);
+            crsh::traverse<kOcclusion, false>(impl, settings.object_spheres, rays, h, hits, occluded, parallel,
+                                              nullptr);
         }
     };
     if (!parallel) {
@@ -47,8 +49,10 @@ std::vector<Ray> lanes_as_rays(std::span<const Packet16> packets) {
     std::vector<Ray> rays(packets.size() * 16);
     for (std::size_t p = 0; p < packets.size(); ++p)
         for (int i = 0; i < 16; ++i)
-            if ((packets[p].active >> i) & 1u) rays[p * 16 + std::size_t(i)] = packets[p].ray(i);
-            else rays[p * 16 + std::size_t(i)].dir = Float3{0, 0, 0};
+            if ((packets[p].active >> i) & 1u)
+                rays[p * 16 + std::size_t(i)] = packets[p].ray(i);
+            else
+                rays[p * 16 + std::size_t(i)].dir = Float3{0, 0, 0};
     return rays;
 }
 
@@ -84,8 +88,8 @@ std::uint64_t Crsh::predicted_top_level_tests(std::size_t rays) const {
     std::uint64_t nodes = rays;
     const std::uint64_t f = static_cast<std::uint64_t>(settings_.fanout);
     for (int l = 0; l < settings_.levels; ++l) nodes = (nodes + f - 1) / f;
-    const std::uint64_t per_node = settings_.object_spheres ? impl_->stats.objects + impl_->stats.largest_object
-                                                            : impl_->triangles.size();
+    const std::uint64_t per_node =
+        settings_.object_spheres ? impl_->stats.objects + impl_->stats.largest_object : impl_->triangles.size();
     return nodes * per_node;
 }
 

@@ -39,10 +39,9 @@ std::uint32_t quantise(double f, int bits) {
 
 BoundingRay bounding_ray(const Ray& r, CrshKey key) {
     const Vec3d org(r.org), dir(r.dir);
-    const double length = std::isfinite(r.tfar)
-                              ? (static_cast<double>(r.tfar) - static_cast<double>(r.tnear)) * crsh::length(dir) *
-                                    (1.0 + 1e-12)
-                              : std::numeric_limits<double>::infinity();
+    const double length = std::isfinite(r.tfar) ? (static_cast<double>(r.tfar) - static_cast<double>(r.tnear)) *
+                                                      crsh::length(dir) * (1.0 + 1e-12)
+                                                : std::numeric_limits<double>::infinity();
     if (key == CrshKey::end_point && std::isfinite(r.tfar))
         return BoundingRay{org + dir * static_cast<double>(r.tfar), unit(dir) * -1.0, length};
     return BoundingRay{org + dir * static_cast<double>(r.tnear), unit(dir), length};

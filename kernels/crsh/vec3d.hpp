@@ -23,7 +23,9 @@ struct Vec3d {
 };
 
 constexpr double dot(Vec3d a, Vec3d b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-constexpr Vec3d cross(Vec3d a, Vec3d b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+constexpr Vec3d cross(Vec3d a, Vec3d b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 inline double length(Vec3d a) { return std::sqrt(dot(a, a)); }
 inline double norm1(Vec3d a) { return std::fabs(a.x) + std::fabs(a.y) + std::fabs(a.z); }
 // a / |a|; a must not be zero.

@@ -23,10 +23,14 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 std::vector<Ray> invalid_rays() {
     const Float3 o{0.5f, 0.5f, -1.0f}, d{0, 0, 1};
-    return {Ray{{kNaN, 0.5f, -1}, 0.0f, d, kInfinity}, Ray{o, 0.0f, {0, kInfinity, 1}, kInfinity},
-            Ray{o, 0.0f, {0, 0, 0}, kInfinity},        Ray{o, 2.0f, d, 1.0f},
-            Ray{o, kNaN, d, kInfinity},                Ray{o, 0.0f, d, kNaN},
-            Ray{o, -kInfinity, d, kInfinity},          Ray{{kInfinity, 0, 0}, 0.0f, d, kInfinity}};
+    return {Ray{{kNaN, 0.5f, -1}, 0.0f, d, kInfinity},
+            Ray{o, 0.0f, {0, kInfinity, 1}, kInfinity},
+            Ray{o, 0.0f, {0, 0, 0}, kInfinity},
+            Ray{o, 2.0f, d, 1.0f},
+            Ray{o, kNaN, d, kInfinity},
+            Ray{o, 0.0f, d, kNaN},
+            Ray{o, -kInfinity, d, kInfinity},
+            Ray{{kInfinity, 0, 0}, 0.0f, d, kInfinity}};
 }
 
 bool same(const Hit& a, const Hit& b) {
@@ -158,7 +162,7 @@ TEST(CrshContract, CountersAddUpAndBeatBruteForceOnCoherentRays) {
     EXPECT_EQ(c.crsh.object_sphere_tests, (rays.size() / 64) * crsh.stats().objects);
     EXPECT_EQ(r.crsh.object_sphere_tests, 0u);
     EXPECT_EQ(r.crsh.level_tests[1], (rays.size() / 64) * scene.triangle_count());  // RAH: every triangle
-    EXPECT_EQ(r.crsh.level_tests[0], r.crsh.level_hits[1] * 8);                   // each child tests its parent's
+    EXPECT_EQ(r.crsh.level_tests[0], r.crsh.level_hits[1] * 8);                     // each child tests its parent's
     for (const QueryCounters* k : {&c, &r}) {
         EXPECT_EQ(k->crsh.sphere_cone_tests, k->crsh.level_tests[0] + k->crsh.level_tests[1]);
         EXPECT_EQ(k->crsh.triangle_tests, k->triangle_tests);

@@ -74,7 +74,8 @@ TEST(CrshSpheres, ObjectSpheresHoldEveryCorner) {
     std::mt19937 rng(2);
     std::uniform_real_distribution<float> u(-5.0f, 5.0f);
     std::vector<Triangle> tris;
-    for (int i = 0; i < 500; ++i) tris.push_back({{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}});
+    for (int i = 0; i < 500; ++i)
+        tris.push_back({{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}});
     const Sphere s = bounding_sphere(tris);
     for (const Triangle& t : tris) EXPECT_TRUE(contains(s, t));
 }
@@ -232,8 +233,8 @@ TEST(CrshSphereCone, SpheresOnTheSegmentsAreKeptAndFarOnesCulled) {
     EXPECT_FALSE(node.wide);
     EXPECT_TRUE(sphere_meets_node(node, 0.0, 0.0, 50.0, 0.0));     // on the axis, far ahead
     EXPECT_TRUE(sphere_meets_node(node, 0.0, 0.0, -0.001, 0.01));  // just behind the start, touching it
-    EXPECT_FALSE(sphere_meets_node(node, 0.0, 0.0, -5.0, 1.0));   // behind the apex
-    EXPECT_FALSE(sphere_meets_node(node, 10.0, 0.0, 1.0, 1.0));   // off to the side
+    EXPECT_FALSE(sphere_meets_node(node, 0.0, 0.0, -5.0, 1.0));    // behind the apex
+    EXPECT_FALSE(sphere_meets_node(node, 10.0, 0.0, 1.0, 1.0));    // off to the side
 }
 
 namespace {

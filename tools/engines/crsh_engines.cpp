@@ -138,10 +138,9 @@ private:
         std::uint64_t top_nodes = ray_count;
         const std::uint64_t f = std::uint64_t(crsh_->settings().fanout);
         for (int l = 0; l < crsh_->settings().levels; ++l) top_nodes = (top_nodes + f - 1) / f;
-        const std::string per_node =
-            sort_ ? std::to_string(s.objects) + " object spheres + " + std::to_string(s.largest_object) +
-                        " triangles of the largest object"
-                  : std::to_string(s.triangles - s.degenerate_triangles) + " triangles";
+        const std::string per_node = sort_ ? std::to_string(s.objects) + " object spheres + " +
+                                                 std::to_string(s.largest_object) + " triangles of the largest object"
+                                           : std::to_string(s.triangles - s.degenerate_triangles) + " triangles";
         throw Error("engine " + name() + " refuses this work: " + std::to_string(ray_count) + " rays make " +
                     std::to_string(top_nodes) + " top nodes x (" + per_node + ") = " + count_text(predicted) +
                     " predicted top-level sphere tests, over the budget of " + count_text(budget_) +

@@ -69,9 +69,7 @@ std::vector<ProfilePoint> curve_profile(std::size_t count, Curve curve) {
 
 void ball(MeshBuilder& m, const Frame& f, Detail k) { m.add_uv_sphere(f * moved({0, 1, 0}), k(120), k(63, 2)); }
 
-void ring(MeshBuilder& m, const Frame& f, Detail k) {
-    m.add_torus(f * moved({0, 0.3f, 0}), 0.7f, 0.3f, k(150), k(50));
-}
+void ring(MeshBuilder& m, const Frame& f, Detail k) { m.add_torus(f * moved({0, 0.3f, 0}), 0.7f, 0.3f, k(150), k(50)); }
 
 void teapot(MeshBuilder& m, const Frame& outer, Detail k) {
     const Frame f = outer.scaled(0.9f, 0.9f, 0.9f);

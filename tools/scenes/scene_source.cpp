@@ -82,7 +82,8 @@ SceneSource load_scene(const std::string& spec) {
     std::error_code ec;
     if (looks_like_generator(spec, name, parameter, has_parameter) && !std::filesystem::exists(spec, ec))
         throw Error("scene " + spec + ": unknown generator \"" + std::string(name) +
-                    "\" and no file of that name (generators: random:N, tetra:LEVEL, sphereflake:LEVEL, room[:SEED], room-lite[:SEED])");
+                    "\" and no file of that name (generators: random:N, tetra:LEVEL, sphereflake:LEVEL, room[:SEED], "
+                    "room-lite[:SEED])");
     return load_mesh_file(spec);
 }
 
