@@ -60,6 +60,14 @@ foreach(source
     mlrta/shadow_reversal.cpp
     mlrta/tile_tracer.cpp
     mlrta/mlrta.cpp
+    crsh/bounding_spheres.cpp
+    crsh/cone.cpp
+    crsh/ray_keys.cpp
+    crsh/radix_sort.cpp
+    crsh/ray_hierarchy.cpp
+    crsh/crsh_impl.cpp
+    crsh/traversal.cpp
+    crsh/crsh.cpp
   )
   list(APPEND BEAMTRACE_SOURCES ${BEAMTRACE_KERNELS_DIR}/${source})
 endforeach()

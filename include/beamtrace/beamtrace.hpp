@@ -1,5 +1,6 @@
 #pragma once
 // The whole public API.
+#include "beamtrace/crsh.hpp"
 #include "beamtrace/error.hpp"
 #include "beamtrace/kdtree.hpp"
 #include "beamtrace/mlrta.hpp"

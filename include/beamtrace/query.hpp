@@ -1,5 +1,5 @@
 #pragma once
-// The query contract every accelerator (KdTree, Mlrta, VisibilityField) offers, the same six calls:
+// The query contract every accelerator (KdTree, Mlrta, VisibilityField, Crsh) offers, the same six calls:
 //
 //   Hit  intersect(const Ray&) const;                  bool occluded(const Ray&) const;
 //   void intersect(std::span<const Ray>, std::span<Hit>, const QueryOptions& = {}) const;
@@ -54,6 +54,23 @@ struct QueryCounters {
         std::uint64_t sort_nanoseconds = 0;   // keys, sort, grouping and the answers' scatter, summed over calls
     } stream;
 
+    // CRSH / RAH (crsh.hpp). Levels are indexed from the rays up: level_*[0] is level 1 (nodes of
+    // `fanout` rays). The paper's metric is object_sphere_tests + sphere_cone_tests + triangle_tests.
+    struct Crsh {
+        static constexpr int kMaxLevels = 4;
+        std::uint64_t rays = 0;                      // rays in hierarchies (those that describe a segment)
+        std::uint64_t nodes[kMaxLevels] = {};        // nodes built per level
+        std::uint64_t object_sphere_tests = 0;       // top nodes x object bounding spheres
+        std::uint64_t object_sphere_hits = 0;        // of which kept (their triangles become candidates)
+        std::uint64_t sphere_cone_tests = 0;         // triangle bounding spheres against nodes, every level
+        std::uint64_t level_tests[kMaxLevels] = {};  // of those, per level
+        std::uint64_t level_hits[kMaxLevels] = {};   // (node, triangle) pairs kept per level
+        std::uint64_t triangle_tests = 0;            // ray/triangle tests of the final stage
+        // Wall-clock nanoseconds of the phases of counted calls: keys (bounding points, directions,
+        // hashes), the radix sort, the nodes, the traversal with the final tests.
+        std::uint64_t key_ns = 0, sort_ns = 0, hierarchy_ns = 0, traversal_ns = 0;
+    } crsh;
+
     QueryCounters& operator+=(const QueryCounters& o) {
         rays += o.rays;
         packets += o.packets;
@@ -77,6 +94,20 @@ struct QueryCounters {
         stream.group_steps += o.stream.group_steps;
         stream.group_leaves += o.stream.group_leaves;
         stream.sort_nanoseconds += o.stream.sort_nanoseconds;
+        crsh.rays += o.crsh.rays;
+        for (int l = 0; l < Crsh::kMaxLevels; ++l) {
+            crsh.nodes[l] += o.crsh.nodes[l];
+            crsh.level_tests[l] += o.crsh.level_tests[l];
+            crsh.level_hits[l] += o.crsh.level_hits[l];
+        }
+        crsh.object_sphere_tests += o.crsh.object_sphere_tests;
+        crsh.object_sphere_hits += o.crsh.object_sphere_hits;
+        crsh.sphere_cone_tests += o.crsh.sphere_cone_tests;
+        crsh.triangle_tests += o.crsh.triangle_tests;
+        crsh.key_ns += o.crsh.key_ns;
+        crsh.sort_ns += o.crsh.sort_ns;
+        crsh.hierarchy_ns += o.crsh.hierarchy_ns;
+        crsh.traversal_ns += o.crsh.traversal_ns;
         return *this;
     }
 };

@@ -4,6 +4,7 @@
 // API only and name this struct as a friend.
 #include <memory>
 
+#include "beamtrace/crsh.hpp"
 #include "beamtrace/kdtree.hpp"
 #include "beamtrace/mlrta.hpp"
 #include "beamtrace/vlf.hpp"
@@ -18,6 +19,7 @@ struct Access {
     static std::shared_ptr<const Mlrta::Impl> share(const Mlrta& mlrta) { return mlrta.impl_; }
     static const DirectionSet::Impl& impl(const DirectionSet& set) { return *set.impl_; }
     static const VisibilityField::Impl& impl(const VisibilityField& field) { return *field.impl_; }
+    static const Crsh::Impl& impl(const Crsh& crsh) { return *crsh.impl_; }
 };
 
 }  // namespace beamtrace::detail

@@ -19,6 +19,7 @@ std::vector<EngineUnderTest> build_engines(const Scene& scene, const EngineChoic
     std::vector<std::string> names = {"kd1", "kd16", "mlrta", "vlf", "stream"};
     if (choice.brute) names.push_back("brute");
     if (choice.vlf_fast) names.push_back("vlf-fast");
+    if (choice.crsh) names.insert(names.end(), {"crsh", "rah"});
     std::vector<EngineUnderTest> engines;
     for (const std::string& name : names) {
         EngineUnderTest e;

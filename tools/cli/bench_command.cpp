@@ -25,6 +25,8 @@ struct BenchArgs {
     KdBuildRules kd;
     bool anchor_engines = true;
     bool embree_robust = true;
+    CrshSettings crsh;
+    double crsh_budget_millions = double(workload::EngineOptions::kDefaultCrshBudget) / 1e6;
 };
 
 std::string bench_header(const workload::BenchResult& r) {
@@ -124,6 +126,22 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--ao-dirs", args->ao_dirs,
                     "ao mode: random (stratified, cosine weighted) | psf (VLF-RT's --vlf-dirs directions)")
         ->capture_default_str();
+    cmd->add_option("--crsh-fanout", args->crsh.fanout,
+                    "crsh, rah: rays per level-1 node and children per upper node (the paper's subdivision)")
+        ->capture_default_str();
+    cmd->add_option("--crsh-levels", args->crsh.levels, "crsh, rah: levels of nodes above the rays (the paper's depth)")
+        ->capture_default_str();
+    cmd->add_option("--crsh-key-bits", args->crsh.key_position_bits,
+                    "crsh: bits per axis of the position in a ray's key, above its direction (0-10)")
+        ->capture_default_str();
+    cmd->add_flag("--crsh-segment-bound", args->crsh.segment_bound,
+                  "crsh, rah: also cull by the rays' segment lengths (not in the paper: docs/crsh.md)");
+    cmd->add_option("--crsh-budget", args->crsh_budget_millions,
+                    "crsh, rah: refuse ray sets whose predicted top-level sphere tests (top nodes x (objects + "
+                    "triangles of the largest object) for crsh, top nodes x triangles for rah) exceed this many "
+                    "million (docs/crsh.md)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_flag("--anchor-engines,!--no-anchor-engines", args->anchor_engines,
                   "time every Embree engine (embree1, embree16, embree-stream) even when --engines leaves it out, so "
                   "that the anchor, the fastest of them, is Embree at its best (default on; off: the anchor is the "
@@ -168,6 +186,9 @@ std::function<void()> add_bench_command(CLI::App& app) {
         bo.engine_options.vlf = args->vlf;
         args->stream.validate();
         bo.engine_options.stream = args->stream;
+        args->crsh.validate();
+        bo.engine_options.crsh = args->crsh;
+        bo.engine_options.crsh_budget = static_cast<std::uint64_t>(args->crsh_budget_millions * 1e6);
         for (const std::string& e : bo.engines) workload::make_engine(e);  // reject unknown names before loading
         const workload::Workload w = workload::make_workload(wc);
         const workload::BenchResult result = workload::run_bench(w, bo);

@@ -63,6 +63,7 @@ std::function<void()> add_render_command(CLI::App& app) {
             workload::EngineOptions eo;
             eo.vlf.directions = args->vlf_dirs;
             eo.vlf.validate();
+            eo.object_of_triangle = source.object_of_triangle;
             if (bar.enabled()) eo.build_progress = [&bar](double f) { bar.update(f); };
             engine->build(source.scene, eo);
             bar.finish();

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "beamtrace/crsh.hpp"
 #include "beamtrace/kdtree.hpp"
 #include "beamtrace/mlrta.hpp"
 #include "beamtrace/scene.hpp"
@@ -32,6 +33,16 @@ struct EngineOptions {
     bool embree_robust = true;
     // Progress of long builds in [0, 1]; may be empty.
     std::function<void(double)> build_progress;
+    // crsh: the scene's objects (SceneSource::object_of_triangle; must outlive build()); empty: the
+    // whole scene is one object.
+    std::span<const std::uint32_t> object_of_triangle;
+    // crsh, rah: fanout, levels, key bits, segment bound (sort, object spheres and the key kind are the
+    // engines').
+    CrshSettings crsh;
+    // crsh, rah: the work budget. A ray set whose predicted top-level sphere tests
+    // (Crsh::predicted_top_level_tests) exceed it is refused with an error (docs/crsh.md).
+    std::uint64_t crsh_budget = kDefaultCrshBudget;
+    static constexpr std::uint64_t kDefaultCrshBudget = 1'000'000'000ull;
 };
 
 // An engine's answers to a ray set's rays: per slot (packet * 16 + lane) for the comparison, the

@@ -7,7 +7,7 @@ namespace beamtrace::workload {
 const std::vector<std::string>& engine_names() {
     static const std::vector<std::string> names = {"embree1", "embree16", "embree-stream", "brute",   "kd1",
                                                    "kd16",    "mlrta",    "vlf",           "vlf-fast",
-                                                   "stream",  "embree-sorted"};
+                                                   "stream",  "embree-sorted", "crsh",     "rah"};
     return names;
 }
 
@@ -23,6 +23,8 @@ std::unique_ptr<Engine> make_engine(const std::string& name) {
     if (name == "vlf-fast") return make_vlf_engine(true);
     if (name == "stream") return make_stream_engine();
     if (name == "embree-sorted") return make_embree_sorted_engine();
+    if (name == "crsh") return make_crsh_engine(true);
+    if (name == "rah") return make_crsh_engine(false);
     std::string known;
     for (const std::string& n : engine_names()) known += (known.empty() ? "" : ", ") + n;
     throw Error("unknown engine '" + name + "' (known: " + known + ")");

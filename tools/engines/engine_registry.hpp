@@ -18,6 +18,8 @@ std::unique_ptr<Engine> make_embree_sorted_engine();
 
 // The kd-tree's build statistics (kd1, kd16, stream).
 nlohmann::json tree_json(const KdBuildStats& stats);
+// crsh (sort = true: CRSH with object spheres) or rah (Roger et al.: input order, no object spheres).
+std::unique_ptr<Engine> make_crsh_engine(bool sort);
 
 // The statistics kd16 and mlrta report alike (the paper's Tables 2 and 3): cells, entry-point
 // cells and intersections per packet and the other packet counters; and MLRTA's settings.

@@ -119,6 +119,7 @@ TimedEngine build_engine(const Workload& w, const std::string& name, const Bench
     run.result.variant_key = run.engine->timing_variant_key();
     report::ProgressBar bar("build " + progress_label(name, options), options.progress && report::stderr_is_terminal());
     EngineOptions eo = options.engine_options;
+    eo.object_of_triangle = w.source.object_of_triangle;
     if (bar.enabled()) eo.build_progress = [&bar](double f) { bar.update(f); };
     run.engine->build(w.source.scene, eo);
     bar.finish();

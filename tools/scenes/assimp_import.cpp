@@ -3,6 +3,7 @@
 #include "scenes/assimp_import.hpp"
 
 #include <assimp/Importer.hpp>
+#include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
@@ -42,6 +43,9 @@ bool has_no_polygons(const std::string& path) {
 
 MeshArrays import_with_assimp(const std::string& path) {
     Assimp::Importer importer;
+    // Keep the file's meshes apart (PreTransformVertices would join meshes of one material): each is
+    // an object of SceneSource::object_of_triangle. The geometry is the same either way.
+    importer.SetPropertyBool(AI_CONFIG_PP_PTV_KEEP_HIERARCHY, true);
     // SortByPType splits meshes by primitive type; meshes of points or lines are skipped below.
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices |
                            aiProcess_SortByPType | aiProcess_ValidateDataStructure;
@@ -84,11 +88,13 @@ MeshArrays import_with_assimp(const std::string& path) {
                                 std::to_string(mesh->mNumVertices));
                 indices.push_back(static_cast<std::uint32_t>(base + face.mIndices[k]));
             }
+            out.mesh_of_triangle.push_back(out.meshes);
             used = true;
         }
         out.meshes += used ? 1 : 0;
     }
     if (indices.empty()) throw Error(path + " contains no triangles");
+    if (out.meshes <= 1) out.mesh_of_triangle.clear();
     return out;
 }
 

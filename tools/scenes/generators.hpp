@@ -26,5 +26,10 @@ SceneSource sierpinski_tetra(int level);
 SceneSource sphereflake(int level);
 // A furnished classroom of about a million triangles; the seed moves furniture and desk objects.
 SceneSource room(std::uint32_t seed = kDefaultRoomSeed);
+// The same classroom (same seed, same places) with its desk objects tessellated kRoomLiteCoarseness
+// times coarser along each direction: about 19,000 triangles, for engines without a geometry
+// hierarchy (brute, crsh, rah).
+inline constexpr int kRoomLiteCoarseness = 8;
+SceneSource room_lite(std::uint32_t seed = kDefaultRoomSeed);
 
 }  // namespace beamtrace::scenes

@@ -74,11 +74,12 @@ void send_error(int fd, const std::string& what) {
     try {
         const MeshArrays m = import_with_assimp(path);
         const std::uint32_t meshes = m.meshes;
-        const std::uint64_t nv = m.vertices.size(), ni = m.indices.size();
+        const std::uint64_t nv = m.vertices.size(), ni = m.indices.size(), no = m.mesh_of_triangle.size();
         const bool sent = write_all(fd, &kArrays, 1) && write_all(fd, &meshes, sizeof meshes) &&
                           write_all(fd, &nv, sizeof nv) && write_all(fd, &ni, sizeof ni) &&
-                          write_all(fd, m.vertices.data(), nv * sizeof(Float3)) &&
-                          write_all(fd, m.indices.data(), ni * sizeof(std::uint32_t));
+                          write_all(fd, &no, sizeof no) && write_all(fd, m.vertices.data(), nv * sizeof(Float3)) &&
+                          write_all(fd, m.indices.data(), ni * sizeof(std::uint32_t)) &&
+                          write_all(fd, m.mesh_of_triangle.data(), no * sizeof(std::uint32_t));
         ::_exit(sent ? 0 : 3);
     } catch (const Error& e) {
         send_error(fd, e.what());
@@ -122,14 +123,17 @@ MeshArrays import_in_child_process(const std::string& path) {
     if (read_all(fds[0], &kind, 1, deadline, late)) {
         if (kind == kArrays) {
             std::uint32_t meshes = 0;
-            std::uint64_t nv = 0, ni = 0;
+            std::uint64_t nv = 0, ni = 0, no = 0;
             if (read_all(fds[0], &meshes, sizeof meshes, deadline, late) &&
-                read_all(fds[0], &nv, sizeof nv, deadline, late) && read_all(fds[0], &ni, sizeof ni, deadline, late)) {
+                read_all(fds[0], &nv, sizeof nv, deadline, late) && read_all(fds[0], &ni, sizeof ni, deadline, late) &&
+                read_all(fds[0], &no, sizeof no, deadline, late) && no <= ni / 3) {
                 m.meshes = meshes;
                 m.vertices.resize(nv);
                 m.indices.resize(ni);
+                m.mesh_of_triangle.resize(no);
                 complete = read_all(fds[0], m.vertices.data(), nv * sizeof(Float3), deadline, late) &&
-                           read_all(fds[0], m.indices.data(), ni * sizeof(std::uint32_t), deadline, late);
+                           read_all(fds[0], m.indices.data(), ni * sizeof(std::uint32_t), deadline, late) &&
+                           read_all(fds[0], m.mesh_of_triangle.data(), no * sizeof(std::uint32_t), deadline, late);
             }
         } else if (kind == kError) {
             std::uint64_t length = 0;

@@ -11,6 +11,8 @@ struct MeshArrays {
     std::vector<Float3> vertices;
     std::vector<std::uint32_t> indices;  // three per triangle
     unsigned meshes = 1;                 // meshes of the file that gave triangles
+    // Per triangle, the mesh it came from (0 .. meshes - 1): empty for a file of one mesh.
+    std::vector<std::uint32_t> mesh_of_triangle;
 };
 
 }  // namespace beamtrace::scenes

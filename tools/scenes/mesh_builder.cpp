@@ -249,6 +249,25 @@ void MeshBuilder::append(const MeshBuilder& mesh, const Frame& frame) {
     for (std::uint32_t i : mesh.indices_) indices_.push_back(base + i);
 }
 
+void MeshBuilder::begin_object() {
+    if (!object_starts_.empty() && object_starts_.back() == triangle_count()) return;  // the last one is still empty
+    object_starts_.push_back(triangle_count());
+}
+
+std::vector<std::uint32_t> MeshBuilder::object_of_triangle() const {
+    std::vector<std::uint32_t> objects;
+    if (object_starts_.empty()) return objects;
+    objects.resize(triangle_count());
+    // Triangles before the first start (if any) are object 0; the objects begun follow.
+    const std::uint32_t first_id = object_starts_.front() == 0 ? 0u : 1u;
+    std::size_t begun = 0;  // starts at or before t
+    for (std::size_t t = 0; t < objects.size(); ++t) {
+        while (begun < object_starts_.size() && object_starts_[begun] <= t) ++begun;
+        objects[t] = begun == 0 ? 0u : first_id + static_cast<std::uint32_t>(begun - 1);
+    }
+    return objects;
+}
+
 Scene MeshBuilder::build() const {
     return Scene(std::span<const Float3>(vertices_), std::span<const std::uint32_t>(indices_));
 }

@@ -79,6 +79,14 @@ public:
     // Copy another mesh in, placed by `frame` (instancing a template such as a tessellated sphere).
     void append(const MeshBuilder& mesh, const Frame& frame);
 
+    // Objects (the optional partition of SceneSource::object_of_triangle): the triangles added from now
+    // on belong to a new object, until the next call (a call right after another, with no triangle
+    // between, begins nothing new).
+    void begin_object();
+    // Per triangle, its object, numbered in the order begun (triangles added before the first call, if
+    // any, are object 0). Empty when begin_object was never called.
+    std::vector<std::uint32_t> object_of_triangle() const;
+
     std::size_t vertex_count() const { return vertices_.size(); }
     std::size_t triangle_count() const { return indices_.size() / 3; }
     std::span<const Float3> vertices() const { return vertices_; }
@@ -90,6 +98,7 @@ public:
 private:
     std::vector<Float3> vertices_;
     std::vector<std::uint32_t> indices_;
+    std::vector<std::size_t> object_starts_;  // first triangle of each object begun
 };
 
 // Unit sphere about the origin from a subdivided icosahedron, vertices shared: 20 * 4^s triangles.

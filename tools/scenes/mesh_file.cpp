@@ -57,8 +57,10 @@ std::string lowercase_extension(const std::string& path) {
     return ext;
 }
 
-SceneSource make_source(const std::string& path, const std::vector<Float3>& vertices,
-                        const std::vector<std::uint32_t>& indices, unsigned meshes_used) {
+SceneSource make_source(const std::string& path, const MeshArrays& mesh) {
+    const std::vector<Float3>& vertices = mesh.vertices;
+    const std::vector<std::uint32_t>& indices = mesh.indices;
+    const unsigned meshes_used = mesh.meshes;
     std::optional<Scene> scene;
     try {
         scene.emplace(std::span<const Float3>(vertices), std::span<const std::uint32_t>(indices));
@@ -70,7 +72,10 @@ SceneSource make_source(const std::string& path, const std::vector<Float3>& vert
     std::string description = "mesh file " + path + ": " + std::to_string(scene->triangle_count()) + " triangles, " +
                               std::to_string(scene->vertex_count()) + " vertices from " + std::to_string(meshes_used) +
                               (meshes_used == 1 ? " mesh" : " meshes");
-    return SceneSource{name, std::move(*scene), camera, std::move(description)};
+    // One object per mesh of the file (none known for a file of one mesh).
+    std::vector<std::uint32_t> objects;
+    if (mesh.mesh_of_triangle.size() == scene->triangle_count()) objects = mesh.mesh_of_triangle;
+    return SceneSource{name, std::move(*scene), camera, std::move(description), std::move(objects)};
 }
 
 }  // namespace
@@ -83,12 +88,12 @@ SceneSource load_mesh_file(const std::string& path) {
         const std::string bytes = file_bytes(path);
         if (lowercase_extension(path) == ".off" || looks_like_off(bytes)) {
             const MeshArrays mesh = parse_off(bytes, path);
-            return make_source(path, mesh.vertices, mesh.indices, mesh.meshes);
+            return make_source(path, mesh);
         }
         if (lowercase_extension(path) == ".ply" || looks_like_ply(bytes)) check_ply_header(bytes, path);
     }
     const MeshArrays mesh = import_in_child_process(path);
-    return make_source(path, mesh.vertices, mesh.indices, mesh.meshes);
+    return make_source(path, mesh);
 }
 
 }  // namespace beamtrace::scenes

@@ -53,7 +53,7 @@ void add_chair(MeshBuilder& m, float x, float z) {
 // `count` objects in a row along x on a desk top centred at (x, z): each in its own slot, jittered,
 // sized and turned by the random stream.
 void add_desk_objects(MeshBuilder& m, DeterministicRandom& random, float x, float z, float half_width, float half_depth,
-                      int count) {
+                      int count, int coarseness) {
     const float slot = 2.0f * half_width / static_cast<float>(count);
     for (int i = 0; i < count; ++i) {
         const auto kind = static_cast<DeskObject>(random.below(kDeskObjectKinds));
@@ -62,16 +62,19 @@ void add_desk_objects(MeshBuilder& m, DeterministicRandom& random, float x, floa
         const float cx = x - half_width + slot * (static_cast<float>(i) + 0.5f) + random.uniform(-free_x, free_x);
         const float cz = z + random.uniform(-free_z, free_z);
         const float yaw = random.uniform(0.0f, 2.0f * std::numbers::pi_v<float>);
-        add_desk_object(m, kind, {cx, kDeskTop, cz}, footprint, yaw);
+        m.begin_object();
+        add_desk_object(m, kind, {cx, kDeskTop, cz}, footprint, yaw, coarseness);
     }
 }
 
 // A bookshelf against the x = kWidth wall between z0 and z1: two sides, five boards, books on four.
 void add_bookshelf(MeshBuilder& m, DeterministicRandom& random, float z0, float z1) {
     constexpr float kFront = kWidth - 0.4f, kBoard = 0.03f, kTop = 2.0f;
+    m.begin_object();  // the two sides
     m.add_box(box(kFront, kWidth, 0.0f, kTop, z0, z0 + kBoard));
     m.add_box(box(kFront, kWidth, 0.0f, kTop, z1 - kBoard, z1));
     for (int shelf = 0; shelf < 5; ++shelf) {
+        m.begin_object();  // each board with the books standing on it
         const float y = shelf == 4 ? kTop - kBoard : 0.5f * static_cast<float>(shelf);
         m.add_box(box(kFront, kWidth, y, y + kBoard, z0 + kBoard, z1 - kBoard));
         if (shelf == 4) continue;
@@ -85,23 +88,30 @@ void add_bookshelf(MeshBuilder& m, DeterministicRandom& random, float z0, float 
     }
 }
 
-}  // namespace
-
-SceneSource room(std::uint32_t seed) {
+SceneSource make_room(std::uint32_t seed, int coarseness) {
     DeterministicRandom random(seed);
     MeshBuilder m;
-    m.reserve(560'000, 1'040'000);
+    if (coarseness == 1) m.reserve(560'000, 1'040'000);
 
+    // Objects (SceneSource::object_of_triangle): the shell, the pillar, the blackboard, each light,
+    // the bookshelf's sides and each board with its books, each desk, desk object and chair.
+    m.begin_object();
     m.add_box(box(0, kWidth, 0, kHeight, 0, kDepth), Facing::inward);  // floor, ceiling and walls
-    m.add_box(box(5.7f, 6.3f, 0, kHeight, 4.3f, 4.9f));                // the pillar, in the middle aisle
-    m.add_box(box(4.0f, 8.0f, 0.9f, 2.1f, 0.0f, 0.04f));               // blackboard
-    for (float x : {3.0f, 6.0f, 9.0f})                                 // ceiling lights
-        for (float z : {3.0f, 6.5f}) m.add_box(box(x - 0.6f, x + 0.6f, kHeight - 0.06f, kHeight, z - 0.15f, z + 0.15f));
+    m.begin_object();
+    m.add_box(box(5.7f, 6.3f, 0, kHeight, 4.3f, 4.9f));  // the pillar, in the middle aisle
+    m.begin_object();
+    m.add_box(box(4.0f, 8.0f, 0.9f, 2.1f, 0.0f, 0.04f));  // blackboard
+    for (float x : {3.0f, 6.0f, 9.0f})                    // ceiling lights
+        for (float z : {3.0f, 6.5f}) {
+            m.begin_object();
+            m.add_box(box(x - 0.6f, x + 0.6f, kHeight - 0.06f, kHeight, z - 0.15f, z + 0.15f));
+        }
     add_bookshelf(m, random, 5.0f, 8.0f);
 
     // The teacher's desk before the blackboard.
+    m.begin_object();
     add_desk(m, 6.0f, 1.4f, 1.0f, 0.4f);
-    add_desk_objects(m, random, 6.0f, 1.4f, 1.0f, 0.4f, 4);
+    add_desk_objects(m, random, 6.0f, 1.4f, 1.0f, 0.4f, 4, coarseness);
 
     // Four rows of four desks with an aisle in the middle (where the pillar stands); chairs behind.
     constexpr float kColumns[4] = {1.8f, 4.0f, 8.0f, 10.2f};
@@ -110,8 +120,10 @@ SceneSource room(std::uint32_t seed) {
     for (float row : kRows)
         for (float column : kColumns) {
             const float x = column + random.uniform(-0.1f, 0.1f), z = row + random.uniform(-0.1f, 0.1f);
+            m.begin_object();
             add_desk(m, x, z, kHalfWidth, kHalfDepth);
-            add_desk_objects(m, random, x, z, kHalfWidth, kHalfDepth, 4);
+            add_desk_objects(m, random, x, z, kHalfWidth, kHalfDepth, 4, coarseness);
+            m.begin_object();
             add_chair(m, x + random.uniform(-0.15f, 0.15f), z + 0.55f + random.uniform(0.0f, 0.15f));
         }
 
@@ -120,9 +132,18 @@ SceneSource room(std::uint32_t seed) {
     camera.eye = {0.6f, 1.7f, 8.6f};
     camera.at = {7.0f, 0.85f, 2.0f};
     camera.fovy_degrees = 60.0f;
-    return SceneSource{"room:" + std::to_string(seed), std::move(scene), camera,
+    const bool lite = coarseness != 1;
+    return SceneSource{(lite ? "room-lite:" : "room:") + std::to_string(seed), std::move(scene), camera,
                        "furnished classroom 12 x 3.2 x 9 m, seed " + std::to_string(seed) +
-                           ": 17 desks with 68 tessellated objects, 16 chairs, pillar, bookshelf"};
+                           ": 17 desks with 68 tessellated objects" +
+                           (lite ? " (" + std::to_string(coarseness) + "x coarser)" : std::string()) +
+                           ", 16 chairs, pillar, bookshelf",
+                       m.object_of_triangle()};
 }
+
+}  // namespace
+
+SceneSource room(std::uint32_t seed) { return make_room(seed, 1); }
+SceneSource room_lite(std::uint32_t seed) { return make_room(seed, kRoomLiteCoarseness); }
 
 }  // namespace beamtrace::scenes

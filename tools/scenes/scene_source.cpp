@@ -16,7 +16,7 @@ namespace beamtrace::scenes {
 
 namespace {
 
-constexpr std::array<std::string_view, 4> kGenerators{"random", "tetra", "sphereflake", "room"};
+constexpr std::array<std::string_view, 5> kGenerators{"random", "tetra", "sphereflake", "room", "room-lite"};
 
 // "name:parameter" where name is a plain word (letters, digits, '_', '-'): the shape of a generator
 // spec. Paths have '/', '.' or '\' before any ':' and never match.
@@ -50,6 +50,8 @@ std::string scene_spec_help() {
     help += "sphereflake:LEVEL   Haines' sphereflake, LEVEL = 0.." + to_string(kMaxSphereflakeLevel) + "\n";
     help += "room | room:SEED    furnished classroom of about 1M triangles (default seed " +
             to_string(kDefaultRoomSeed) + ")\n";
+    help += "room-lite[:SEED]    the same room, desk objects " + to_string(kRoomLiteCoarseness) +
+            "x coarser per direction (about 19k triangles)\n";
     help += "PATH                a mesh file: OBJ, PLY, OFF, STL, glTF, ... (through Assimp)";
     return help;
 }
@@ -59,9 +61,11 @@ SceneSource load_scene(const std::string& spec) {
     bool has_parameter = false;
     if (looks_like_generator(spec, name, parameter, has_parameter) && is_generator(name)) {
         const std::string what = "scene " + spec;
-        if (name == "room") {
-            if (!has_parameter) return room(kDefaultRoomSeed);
-            return room(static_cast<std::uint32_t>(parse_integer(parameter, 0, 0xFFFFFFFFll, what, "seed")));
+        if (name == "room" || name == "room-lite") {
+            const std::uint32_t seed =
+                has_parameter ? static_cast<std::uint32_t>(parse_integer(parameter, 0, 0xFFFFFFFFll, what, "seed"))
+                              : kDefaultRoomSeed;
+            return name == "room" ? room(seed) : room_lite(seed);
         }
         if (!has_parameter)
             throw Error(what + ": " + std::string(name) + " needs a parameter, e.g. " + std::string(name) +
@@ -78,7 +82,8 @@ SceneSource load_scene(const std::string& spec) {
     std::error_code ec;
     if (looks_like_generator(spec, name, parameter, has_parameter) && !std::filesystem::exists(spec, ec))
         throw Error("scene " + spec + ": unknown generator \"" + std::string(name) +
-                    "\" and no file of that name (generators: random:N, tetra:LEVEL, sphereflake:LEVEL, room[:SEED])");
+                    "\" and no file of that name (generators: random:N, tetra:LEVEL, sphereflake:LEVEL, room[:SEED], "
+                    "room-lite[:SEED])");
     return load_mesh_file(spec);
 }
 

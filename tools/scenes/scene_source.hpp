@@ -1,7 +1,9 @@
 #pragma once
 // Where a scene comes from: a procedural generator or a mesh file, chosen by a short text spec such
 // as "room:2" or "../shared/scenes/bunny00.off". This is what --scene means in every tool.
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "beamtrace/scene.hpp"
 #include "scenes/camera.hpp"
@@ -13,6 +15,11 @@ struct SceneSource {
     Scene scene;
     Camera camera;  // a default view: procedural default, or frame_from_outside for files
     std::string description;
+    // The scene's objects, when it has a natural partition (room: each piece of furniture and desk
+    // object; sphereflake: each sphere; tetra: groups of 16 tetrahedra; files: each mesh): the object
+    // id of every triangle. Empty: no partition known (the whole scene is one object). For engines
+    // that cull by object (crsh); the library's Scene knows nothing of it.
+    std::vector<std::uint32_t> object_of_triangle = {};
 };
 
 // spec: "random:N", "tetra:LEVEL", "sphereflake:LEVEL", "room" / "room:SEED", or a path to a mesh file

@@ -5,6 +5,7 @@
 // Neighbouring tetrahedra touch at single points. Every corner is computed from integer lattice
 // coordinates (i, j, k) in units of 1/2^LEVEL of the base edges, in double precision, so a touching
 // point is bit-identical in both tetrahedra that share it: no crack for a ray to slip through.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -31,18 +32,23 @@ struct Lattice {
     }
 };
 
+// Objects (SceneSource::object_of_triangle): the tetrahedra of one subdivision `kObjectLevels` levels
+// above the smallest, 16 of them (64 triangles) each; the whole scene below level 2.
+constexpr int kObjectLevels = 2;
+
 void subdivide(MeshBuilder& mesh, const Lattice& lattice, std::int64_t i, std::int64_t j, std::int64_t k,
-               std::int64_t size, int levels_left) {
+               std::int64_t size, int levels_left, int object_levels) {
+    if (levels_left == object_levels) mesh.begin_object();
     if (levels_left == 0) {
         mesh.add_tetrahedron(lattice.point(i, j, k), lattice.point(i + size, j, k), lattice.point(i, j + size, k),
                              lattice.point(i, j, k + size));
         return;
     }
     const std::int64_t half = size / 2;
-    subdivide(mesh, lattice, i, j, k, half, levels_left - 1);
-    subdivide(mesh, lattice, i + half, j, k, half, levels_left - 1);
-    subdivide(mesh, lattice, i, j + half, k, half, levels_left - 1);
-    subdivide(mesh, lattice, i, j, k + half, half, levels_left - 1);
+    subdivide(mesh, lattice, i, j, k, half, levels_left - 1, object_levels);
+    subdivide(mesh, lattice, i + half, j, k, half, levels_left - 1, object_levels);
+    subdivide(mesh, lattice, i, j + half, k, half, levels_left - 1, object_levels);
+    subdivide(mesh, lattice, i, j, k + half, half, levels_left - 1, object_levels);
 }
 
 }  // namespace
@@ -74,12 +80,13 @@ SceneSource sierpinski_tetra(int level) {
     const std::size_t tetrahedra = std::size_t{1} << (2 * level);
     MeshBuilder mesh;
     mesh.reserve(4 * tetrahedra, 4 * tetrahedra);
-    subdivide(mesh, lattice, 0, 0, 0, size, level);
+    subdivide(mesh, lattice, 0, 0, 0, size, level, std::min(level, kObjectLevels));
     Scene scene = mesh.build();
     Camera camera = frame_from_outside(scene.bounds());
     return SceneSource{"tetra:" + std::to_string(level), std::move(scene), camera,
                        "Sierpinski tetrahedron (Haines SPD), level " + std::to_string(level) + ": " +
-                           std::to_string(tetrahedra) + " closed tetrahedra"};
+                           std::to_string(tetrahedra) + " closed tetrahedra",
+                       mesh.object_of_triangle()};
 }
 
 }  // namespace beamtrace::scenes

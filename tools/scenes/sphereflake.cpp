@@ -45,6 +45,7 @@ struct Flake {
 
     // `orientation` is a rotation whose +y axis is the direction this sphere grew in.
     void grow(Float3 centre, float radius, const Frame& orientation, int generation) {
+        mesh.begin_object();  // each sphere is one object
         mesh.append(spheres[subdivisions_for_generation(generation)], Frame::upright(centre, 0.0f, radius));
         if (generation == levels) return;
         const float child_radius = radius / 3.0f;
@@ -77,7 +78,8 @@ SceneSource sphereflake(int level) {
     Camera camera = frame_from_outside(scene.bounds());
     return SceneSource{"sphereflake:" + std::to_string(level), std::move(scene), camera,
                        "sphereflake (Haines SPD), level " + std::to_string(level) + ": " + std::to_string(spheres) +
-                           " closed tessellated spheres"};
+                           " closed tessellated spheres",
+                       flake.mesh.object_of_triangle()};
 }
 
 }  // namespace beamtrace::scenes
