@@ -3,29 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/morton.hpp"
+
 namespace beamtrace::crsh {
 
 namespace {
-
-// Spreads the low 16 bits of x over the even bits.
-std::uint32_t spread2(std::uint32_t x) {
-    x &= 0xFFFFu;
-    x = (x | (x << 8)) & 0x00FF00FFu;
-    x = (x | (x << 4)) & 0x0F0F0F0Fu;
-    x = (x | (x << 2)) & 0x33333333u;
-    x = (x | (x << 1)) & 0x55555555u;
-    return x;
-}
-
-// Spreads the low 10 bits of x over every third bit.
-std::uint32_t spread3(std::uint32_t x) {
-    x &= 0x3FFu;
-    x = (x | (x << 16)) & 0x030000FFu;
-    x = (x | (x << 8)) & 0x0300F00Fu;
-    x = (x | (x << 4)) & 0x030C30C3u;
-    x = (x | (x << 2)) & 0x09249249u;
-    return x;
-}
 
 // [lo, lo + 2^bits) of f in [0, 1] (clamped; NaN gives 0).
 std::uint32_t quantise(double f, int bits) {
@@ -55,7 +37,7 @@ std::uint32_t direction_code(Vec3d d) {
     const std::uint32_t face = std::uint32_t(2 * k) + (c[k] < 0.0 ? 1u : 0u);
     const double u = c[(k + 1) % 3] / m, v = c[(k + 2) % 3] / m;  // in [-1, 1]
     const std::uint32_t qu = quantise((u + 1.0) * 0.5, kDirectionBits), qv = quantise((v + 1.0) * 0.5, kDirectionBits);
-    return (face << (2 * kDirectionBits)) | (spread2(qu) << 1) | spread2(qv);
+    return (face << (2 * kDirectionBits)) | (spread_bits_2(qu) << 1) | spread_bits_2(qv);
 }
 
 PositionCode::PositionCode(const Box& box, int bits) : bits_(bits) {
@@ -72,7 +54,7 @@ std::uint32_t PositionCode::operator()(Vec3d p) const {
     const std::uint32_t qx = quantise((p.x - lower_.x) * scale_.x, bits_);
     const std::uint32_t qy = quantise((p.y - lower_.y) * scale_.y, bits_);
     const std::uint32_t qz = quantise((p.z - lower_.z) * scale_.z, bits_);
-    return (spread3(qx) << 2) | (spread3(qy) << 1) | spread3(qz);
+    return (spread_bits_3(qx) << 2) | (spread_bits_3(qy) << 1) | spread_bits_3(qz);
 }
 
 }  // namespace beamtrace::crsh

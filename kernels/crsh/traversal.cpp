@@ -9,6 +9,8 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "common/ray_batches.hpp"
+
 namespace beamtrace::crsh {
 
 namespace {
@@ -97,36 +99,31 @@ private:
             const std::uint32_t i = h_.order[p];
             WatertightRay w = make_watertight_ray(rays_[i]);
             Hit best;
-            for (std::size_t j = 0; j < n; j += 8) {
-                const int m = static_cast<int>(std::min<std::size_t>(8, n - j));
-                const Triangle* batch[8];
-                for (int b = 0; b < m; ++b) batch[b] = &impl_.triangles[list[j + static_cast<std::size_t>(b)]];
-                LaneHits lanes;
-                if (m <= 4)
-                    kernels.ray_x4(w, batch, m, lanes);
-                else
-                    kernels.ray_x8(w, batch, m, lanes);
-                if constexpr (kCount) {
-                    counters_->crsh.triangle_tests += static_cast<std::uint64_t>(m);
-                    counters_->triangle_tests += static_cast<std::uint64_t>(m);
-                }
-                if constexpr (kOcclusion) {
-                    if (lanes.mask) {
-                        occluded_[i] = 1;
-                        break;
+            test_ray_in_batches(
+                kernels, w, std::uint32_t(n), [&](std::uint32_t j) { return &impl_.triangles[list[j]]; },
+                [&](std::uint32_t j, int m, const LaneHits& lanes) {
+                    if constexpr (kCount) {
+                        counters_->crsh.triangle_tests += static_cast<std::uint64_t>(m);
+                        counters_->triangle_tests += static_cast<std::uint64_t>(m);
                     }
-                } else {
-                    // The smallest t; at equal t the smaller triangle id (as brute force, which tests by id).
-                    for (std::uint32_t mask = lanes.mask; mask; mask &= mask - 1) {
-                        const int b = __builtin_ctz(mask);
-                        const std::uint32_t id = impl_.ids[list[j + static_cast<std::size_t>(b)]];
-                        if (lanes.t[b] < best.t || (lanes.t[b] == best.t && id < best.triangle)) {
-                            best = Hit{lanes.t[b], id, lanes.u[b], lanes.v[b]};
-                            w.tfar = lanes.t[b];
+                    if constexpr (kOcclusion) {
+                        if (lanes.mask) {
+                            occluded_[i] = 1;
+                            return false;
+                        }
+                    } else {
+                        // The smallest t; at equal t the smaller triangle id (as brute force, which tests by id).
+                        for (std::uint32_t mask = lanes.mask; mask; mask &= mask - 1) {
+                            const int b = __builtin_ctz(mask);
+                            const std::uint32_t id = impl_.ids[list[j + std::uint32_t(b)]];
+                            if (lanes.t[b] < best.t || (lanes.t[b] == best.t && id < best.triangle)) {
+                                best = Hit{lanes.t[b], id, lanes.u[b], lanes.v[b]};
+                                w.tfar = lanes.t[b];
+                            }
                         }
                     }
-                }
-            }
+                    return true;
+                });
             if constexpr (!kOcclusion) hits_[i] = best;
         }
     }

@@ -3,6 +3,7 @@
 // measured path and the counted path are the same code.
 #include <cmath>
 
+#include "common/ray_batches.hpp"
 #include "common/ray_validity.hpp"
 #include "common/triangle_reference.hpp"
 #include "kdtree/ray_traversal.hpp"
@@ -76,30 +77,28 @@ Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counte
             ++counters->leaves;
             counters->triangle_tests += count;
         }
-        for (std::uint32_t j = 0; j < count; j += 8) {
-            const int n = int(count - j < 8 ? count - j : 8);
-            const Triangle* batch[8];
-            for (int i = 0; i < n; ++i) batch[i] = corners + j + i;
-            LaneHits lanes;
-            if (n <= 4)
-                kernels.ray_x4(wray, batch, n, lanes);
-            else
-                kernels.ray_x8(wray, batch, n, lanes);
-            if constexpr (kOcclusion) {
-                if (lanes.mask) {
-                    best.triangle = leaf[j];
-                    return best;
-                }
-            } else {
-                for (std::uint32_t m = lanes.mask; m; m &= m - 1) {
-                    const int i = __builtin_ctz(m);
-                    if (lanes.t[i] < best.t) {
-                        best = Hit{lanes.t[i], leaf[j + i], lanes.u[i], lanes.v[i]};
-                        wray.tfar = lanes.t[i];
+        bool occluded = false;
+        test_ray_in_batches(
+            kernels, wray, count, [&](std::uint32_t j) { return corners + j; },
+            [&](std::uint32_t j, int, const LaneHits& lanes) {
+                if constexpr (kOcclusion) {
+                    if (lanes.mask) {
+                        best.triangle = leaf[j];
+                        occluded = true;
+                        return false;
+                    }
+                } else {
+                    for (std::uint32_t m = lanes.mask; m; m &= m - 1) {
+                        const int i = __builtin_ctz(m);
+                        if (lanes.t[i] < best.t) {
+                            best = Hit{lanes.t[i], leaf[j + std::uint32_t(i)], lanes.u[i], lanes.v[i]};
+                            wray.tfar = lanes.t[i];
+                        }
                     }
                 }
-            }
-        }
+                return true;
+            });
+        if (kOcclusion && occluded) return best;
         if (!kOcclusion && !in_plane && best.t < tmax - slack(tmax)) return best;  // nothing nearer is left
         // Next cell from the stack, skipping cells that start beyond the closest hit. (The stack is
         // not sorted by tmin: a ray lying in a split plane pushes a cell with the current interval.)

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "common/ray_batches.hpp"
 #include "common/ray_validity.hpp"
 #include "common/triangle_kernels.hpp"
 #include "common/watertight_ray.hpp"
@@ -223,31 +224,26 @@ private:
             const int i = __builtin_ctz(m);
             if constexpr (kCount) counters_->triangle_tests += count;
             WatertightRay w = lane_ray(i);
-            for (std::uint32_t j = 0; j < count; j += 8) {
-                const int n = int(count - j < 8 ? count - j : 8);
-                const Triangle* batch[8];
-                for (int k = 0; k < n; ++k) batch[k] = tris + j + std::uint32_t(k);
-                LaneHits h;
-                if (n <= 4)
-                    kernels_.ray_x4(w, batch, n, h);
-                else
-                    kernels_.ray_x8(w, batch, n, h);
-                if constexpr (kOcclusion) {
-                    if (h.mask) {
-                        done_ |= 1u << i;
-                        *occluded_ |= 1u << i;
-                        break;
-                    }
-                } else {
-                    for (std::uint32_t b = h.mask; b; b &= b - 1) {
-                        const int k = __builtin_ctz(b);
-                        if (h.t[k] < best_[i]) {
-                            record(i, h.t[k], ids[j + std::uint32_t(k)], h.u[k], h.v[k]);
-                            w.tfar = h.t[k];
+            test_ray_in_batches(
+                kernels_, w, count, [&](std::uint32_t j) { return tris + j; },
+                [&](std::uint32_t j, int, const LaneHits& h) {
+                    if constexpr (kOcclusion) {
+                        if (h.mask) {
+                            done_ |= 1u << i;
+                            *occluded_ |= 1u << i;
+                            return false;
+                        }
+                    } else {
+                        for (std::uint32_t b = h.mask; b; b &= b - 1) {
+                            const int k = __builtin_ctz(b);
+                            if (h.t[k] < best_[i]) {
+                                record(i, h.t[k], ids[j + std::uint32_t(k)], h.u[k], h.v[k]);
+                                w.tfar = h.t[k];
+                            }
                         }
                     }
-                }
-            }
+                    return true;
+                });
         }
     }
 

@@ -6,31 +6,12 @@
 #include <map>
 #include <tuple>
 
+#include "common/morton.hpp"
 #include "common/ray_validity.hpp"
 
 namespace beamtrace::stream {
 
 namespace {
-
-// The bits of x spread to every third bit (10 bits).
-std::uint32_t spread3(std::uint32_t x) {
-    x &= 0x3FFu;
-    x = (x | (x << 16)) & 0x030000FFu;
-    x = (x | (x << 8)) & 0x0300F00Fu;
-    x = (x | (x << 4)) & 0x030C30C3u;
-    x = (x | (x << 2)) & 0x09249249u;
-    return x;
-}
-
-// The bits of x spread to every second bit (16 bits).
-std::uint32_t spread2(std::uint32_t x) {
-    x &= 0xFFFFu;
-    x = (x | (x << 8)) & 0x00FF00FFu;
-    x = (x | (x << 4)) & 0x0F0F0F0Fu;
-    x = (x | (x << 2)) & 0x33333333u;
-    x = (x | (x << 1)) & 0x55555555u;
-    return x;
-}
 
 std::uint32_t quantise(float x, int cells) {
     const float q = x * float(cells);
@@ -57,7 +38,7 @@ std::uint32_t octahedral_code(const Float3& dir, int bits) {
         v = fv;
     }
     const int cells = 1 << bits;
-    return spread2(quantise(u * 0.5f + 0.5f, cells)) | (spread2(quantise(v * 0.5f + 0.5f, cells)) << 1);
+    return spread_bits_2(quantise(u * 0.5f + 0.5f, cells)) | (spread_bits_2(quantise(v * 0.5f + 0.5f, cells)) << 1);
 }
 
 std::uint32_t morton_cell(const Float3& p, const Box& box) {
@@ -65,7 +46,7 @@ std::uint32_t morton_cell(const Float3& p, const Box& box) {
     std::uint32_t code = 0;
     for (int k = 0; k < 3; ++k) {
         const float x = e[k] > 0.0f ? (p[k] - box.lower[k]) / e[k] : 0.0f;
-        code |= spread3(quantise(x, 1024)) << k;
+        code |= spread_bits_3(quantise(x, 1024)) << k;
     }
     return code;
 }
@@ -146,7 +127,7 @@ void make_keys(std::span<const Ray> rays, const Box& scene_box, const SharedPoin
         std::uint32_t code = 0;
         for (int k = 0; k < 3; ++k) {
             const float q = (r.org[k] - scene_box.lower[k]) * scale[k];
-            code |= spread3(!(q > 0.0f) ? 0u : q < 1023.0f ? std::uint32_t(q) : 1023u) << k;
+            code |= spread_bits_3(!(q > 0.0f) ? 0u : q < 1023.0f ? std::uint32_t(q) : 1023u) << k;
         }
         keys[i] = code;
     }

@@ -3,6 +3,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "beamtrace/query.hpp"
+#include "engines/engine.hpp"
 #include "rays/ray_set.hpp"
 
 namespace beamtrace::workload {
@@ -24,5 +26,51 @@ inline ActiveRays active_rays(const RaySet& set) {
         }
     return a;
 }
+
+// The answers of an accelerator's span-of-rays queries (the query contract) to the active rays, by
+// ray (EngineAnswers::Form::rays, the slots `in`'s): what kd1, stream, crsh and rah do.
+template <class Accelerator>
+void answer_rays(const Accelerator& accelerator, const ActiveRays& in, bool closest, EngineAnswers& a,
+                 const QueryOptions& options) {
+    a.form = EngineAnswers::Form::rays;
+    a.ray_slots = &in.slots;
+    if (closest) {
+        a.ray_hits.resize(in.rays.size());
+        accelerator.intersect(in.rays, a.ray_hits, options);
+    } else {
+        a.ray_occluded.resize(in.rays.size());
+        accelerator.occluded(in.rays, a.ray_occluded, options);
+    }
+}
+
+// The active rays of a ray set, made once outside the timed passes (Engine::prepare).
+struct PreparedRays {
+    ActiveRays active;
+    const RaySet* for_set = nullptr;
+    const Packet16* packets = nullptr;
+
+    bool ready_for(const RaySet& rays) const {
+        return for_set == &rays && packets == rays.packets.data() && active.rays.size() == rays.ray_count;
+    }
+    void prepare(const RaySet& rays) {
+        if (ready_for(rays)) return;
+        active = active_rays(rays);
+        for_set = &rays;
+        packets = rays.packets.data();
+    }
+    // answer_rays() over the prepared rays, or over rays made here (and spread into slots at once,
+    // while they live) when the set was not prepared.
+    template <class Accelerator>
+    void answer(const Accelerator& accelerator, const RaySet& rays, bool closest, EngineAnswers& a,
+                const QueryOptions& options) const {
+        if (ready_for(rays)) {
+            answer_rays(accelerator, active, closest, a, options);
+            return;
+        }
+        const ActiveRays made = active_rays(rays);
+        answer_rays(accelerator, made, closest, a, options);
+        a.to_slots(rays, closest);
+    }
+};
 
 }  // namespace beamtrace::workload

@@ -8,29 +8,11 @@
 #include <string>
 
 #include "beamtrace/error.hpp"
+#include "engines/active_rays.hpp"
 #include "engines/engine_registry.hpp"
 
 namespace beamtrace::workload {
 namespace {
-
-// The active rays side by side and their slots (as kd1 traces them).
-struct ActiveRays {
-    std::vector<Ray> rays;
-    std::vector<std::uint32_t> slots;
-};
-
-ActiveRays active_rays(const RaySet& set) {
-    ActiveRays a;
-    a.rays.reserve(set.ray_count);
-    a.slots.reserve(set.ray_count);
-    for (std::size_t p = 0; p < set.packets.size(); ++p)
-        for (std::uint32_t m = set.packets[p].active & 0xFFFFu; m; m &= m - 1) {
-            const int i = __builtin_ctz(m);
-            a.rays.push_back(set.packets[p].ray(i));
-            a.slots.push_back(std::uint32_t(p * 16 + std::size_t(i)));
-        }
-    return a;
-}
 
 // A count as an integer, or in millions from a million on.
 std::string count_text(std::uint64_t x) {
@@ -58,24 +40,13 @@ public:
 
     void prepare(const RaySet& rays) override {
         check_budget(rays.ray_count);
-        if (prepared_for_ == &rays && prepared_packets_ == rays.packets.data() && active_.rays.size() == rays.ray_count)
-            return;
-        active_ = active_rays(rays);
-        prepared_for_ = &rays;
-        prepared_packets_ = rays.packets.data();
+        prepared_.prepare(rays);
     }
 
     // Everything of the method is in the call: keys, sort, nodes, traversal, final tests.
     void trace(const RaySet& rays, bool closest, EngineAnswers& a, int threads) const override {
         check_budget(rays.ray_count);
-        const Crsh c = crsh_->with_key(key_for(rays));
-        if (prepared_for_ == &rays && prepared_packets_ == rays.packets.data()) {
-            query(c, active_, closest, a, QueryOptions{threads, nullptr});
-            return;
-        }
-        const ActiveRays made = active_rays(rays);
-        query(c, made, closest, a, QueryOptions{threads, nullptr});
-        a.to_slots(rays, closest);  // while `made` (the slot map) lives
+        prepared_.answer(crsh_->with_key(key_for(rays)), rays, closest, a, QueryOptions{threads, nullptr});
     }
 
     nlohmann::json stats(const RaySet& rays) const override {
@@ -83,7 +54,7 @@ public:
         EngineAnswers a;
         const ActiveRays in = active_rays(rays);
         const Crsh crsh = crsh_->with_key(key_for(rays));
-        query(crsh, in, rays.mode == Mode::primary, a, QueryOptions{1, &c});
+        answer_rays(crsh, in, closest_hit(rays.mode), a, QueryOptions{1, &c});
         const QueryCounters::Crsh& k = c.crsh;
         const CrshStats& s = crsh_->stats();
         const CrshSettings& settings = crsh.settings();
@@ -147,25 +118,10 @@ private:
                     " (--crsh-budget; it has no geometry hierarchy: docs/crsh.md)");
     }
 
-    static void query(const Crsh& crsh, const ActiveRays& in, bool closest, EngineAnswers& a,
-                      const QueryOptions& options) {
-        a.form = EngineAnswers::Form::rays;
-        a.ray_slots = &in.slots;
-        if (closest) {
-            a.ray_hits.resize(in.rays.size());
-            crsh.intersect(in.rays, a.ray_hits, options);
-        } else {
-            a.ray_occluded.resize(in.rays.size());
-            crsh.occluded(in.rays, a.ray_occluded, options);
-        }
-    }
-
     bool sort_;
     std::unique_ptr<Crsh> crsh_;
     std::uint64_t budget_ = EngineOptions::kDefaultCrshBudget;
-    ActiveRays active_;
-    const RaySet* prepared_for_ = nullptr;
-    const Packet16* prepared_packets_ = nullptr;
+    PreparedRays prepared_;
 };
 
 }  // namespace

@@ -33,31 +33,18 @@ public:
     std::size_t memory_bytes() const override { return tree_->stats().bytes; }
 
     // The active rays side by side, made once per ray set outside the timed passes.
-    void prepare(const RaySet& rays) override {
-        if (prepared_for_ == &rays && prepared_packets_ == rays.packets.data() && active_.rays.size() == rays.ray_count)
-            return;
-        active_ = active_rays(rays);
-        prepared_for_ = &rays;
-        prepared_packets_ = rays.packets.data();
-    }
+    void prepare(const RaySet& rays) override { prepared_.prepare(rays); }
 
-    // The answers of the active rays (by ray, spread after the timed region); the slots they belong
-    // to are prepare()'s. Rays not prepared are made here and their answers spread at once.
+    // The answers of the active rays (by ray, spread after the timed region).
     void trace(const RaySet& rays, bool closest, EngineAnswers& a, int threads) const override {
-        if (prepared_for_ == &rays && prepared_packets_ == rays.packets.data()) {
-            query(active_, closest, a, QueryOptions{threads, nullptr});
-            return;
-        }
-        const ActiveRays made = active_rays(rays);
-        query(made, closest, a, QueryOptions{threads, nullptr});
-        a.to_slots(rays, closest);  // while `made` (the slot map) lives
+        prepared_.answer(*tree_, rays, closest, a, QueryOptions{threads, nullptr});
     }
 
     nlohmann::json stats(const RaySet& rays) const override {
         QueryCounters c;
         EngineAnswers a;
         const ActiveRays in = active_rays(rays);
-        query(in, closest_hit(rays.mode), a, QueryOptions{1, &c});
+        answer_rays(*tree_, in, closest_hit(rays.mode), a, QueryOptions{1, &c});
         const double n = c.rays ? double(c.rays) : 1.0;
         nlohmann::json j = {{"inner_steps_per_ray", double(c.inner_steps) / n},
                             {"leaves_per_ray", double(c.leaves) / n},
@@ -67,22 +54,8 @@ public:
     }
 
 private:
-    void query(const ActiveRays& in, bool closest, EngineAnswers& a, const QueryOptions& options) const {
-        a.form = EngineAnswers::Form::rays;
-        a.ray_slots = &in.slots;
-        if (closest) {
-            a.ray_hits.resize(in.rays.size());
-            tree_->intersect(in.rays, a.ray_hits, options);
-        } else {
-            a.ray_occluded.resize(in.rays.size());
-            tree_->occluded(in.rays, a.ray_occluded, options);
-        }
-    }
-
     std::unique_ptr<KdTree> tree_;
-    ActiveRays active_;  // prepare()'s rays
-    const RaySet* prepared_for_ = nullptr;
-    const Packet16* prepared_packets_ = nullptr;
+    PreparedRays prepared_;
 };
 
 class Kd16Engine : public Engine {

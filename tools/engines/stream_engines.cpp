@@ -14,23 +14,6 @@
 namespace beamtrace::workload {
 namespace {
 
-// Prepared once per ray set, outside the timed passes.
-struct PreparedRays {
-    ActiveRays active;
-    const RaySet* for_set = nullptr;
-    const Packet16* packets = nullptr;
-
-    bool ready_for(const RaySet& rays) const {
-        return for_set == &rays && packets == rays.packets.data() && active.rays.size() == rays.ray_count;
-    }
-    void prepare(const RaySet& rays) {
-        if (ready_for(rays)) return;
-        active = active_rays(rays);
-        for_set = &rays;
-        packets = rays.packets.data();
-    }
-};
-
 class StreamEngine : public Engine {
 public:
     std::string name() const override { return "stream"; }
@@ -50,13 +33,7 @@ public:
     // The timed region is one stream call over the active rays in the ray set's order: keys, sort,
     // groups, tracing and the answers in input order.
     void trace(const RaySet& rays, bool closest, EngineAnswers& a, int threads) const override {
-        if (prepared_.ready_for(rays)) {
-            query(prepared_.active, closest, a, QueryOptions{threads, nullptr});
-            return;
-        }
-        const ActiveRays made = active_rays(rays);
-        query(made, closest, a, QueryOptions{threads, nullptr});
-        a.to_slots(rays, closest);
+        prepared_.answer(*tracer_, rays, closest, a, QueryOptions{threads, nullptr});
     }
 
     nlohmann::json stats(const RaySet& rays) const override {
@@ -65,10 +42,10 @@ public:
         EngineAnswers a;
         // One plain call timed (the share of sorting), one counted call (the counts and the sort time).
         const auto start = std::chrono::steady_clock::now();
-        query(in, closest, a, QueryOptions{1, nullptr});
+        answer_rays(*tracer_, in, closest, a, QueryOptions{1, nullptr});
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         QueryCounters c;
-        query(in, closest, a, QueryOptions{1, &c});
+        answer_rays(*tracer_, in, closest, a, QueryOptions{1, &c});
         const auto& s = c.stream;
         const double n = s.rays ? double(s.rays) : 1.0;
         const std::uint64_t groups = s.origin_groups + s.pencil_packets;
@@ -94,18 +71,6 @@ public:
     }
 
 private:
-    void query(const ActiveRays& in, bool closest, EngineAnswers& a, const QueryOptions& options) const {
-        a.form = EngineAnswers::Form::rays;
-        a.ray_slots = &in.slots;
-        if (closest) {
-            a.ray_hits.resize(in.rays.size());
-            tracer_->intersect(in.rays, a.ray_hits, options);
-        } else {
-            a.ray_occluded.resize(in.rays.size());
-            tracer_->occluded(in.rays, a.ray_occluded, options);
-        }
-    }
-
     std::unique_ptr<KdTree> tree_;
     std::unique_ptr<StreamTracer> tracer_;
     PreparedRays prepared_;

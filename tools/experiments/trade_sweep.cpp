@@ -171,7 +171,7 @@ std::vector<TradeSetting> trade_settings(const Workload& w, const TradeOptions& 
         add("stream", std::string("sort=") + (sort ? "on" : "off") + " min_group=" + std::to_string(min_group), label,
             o);
     }
-    add("embree-sorted", "the stream tracer's order, sort untimed", "embree-sorted", base);
+    add("embree-sorted", "the stream tracer's order (sort untimed)", "embree-sorted", base);
     const double triangles = double(w.source.scene.triangle_count());
     for (const char* engine : {"vlf", "vlf-fast"}) {
         if (!wanted.count(engine)) continue;
@@ -281,15 +281,25 @@ TradeResult run_trade(const Workload& w, const TradeOptions& options) {
     return result;
 }
 
+namespace {
+
+// A text field of the CSV: commas (the separator; the file has no quoting) become semicolons.
+std::string csv_text(std::string text) {
+    std::replace(text.begin(), text.end(), ',', ';');
+    return text;
+}
+
+}  // namespace
+
 std::string to_csv(const TradeResult& r) {
     std::string csv =
         "engine,settings,mrays_per_s,x_embree16,trace_seconds,build_seconds,memory_bytes,rays,agree,ties,grazing,"
         "mismatch,"
         "error_rate,mean_rel_t_error,max_rel_t_error,ao_occlusion_mae,pareto,note,x_anchor\n";
     for (const TradeRow& row : r.rows) {
-        csv += row.setting.engine + "," + row.setting.settings + ",";
+        csv += row.setting.engine + "," + csv_text(row.setting.settings) + ",";
         if (!row.measured()) {
-            csv += ",,,,,,,,,,,,,,0," + row.setting.skipped + ",\n";
+            csv += ",,,,,,,,,,,,,,0," + csv_text(row.setting.skipped) + ",\n";
             continue;
         }
         const EngineResult& e = row.result;
