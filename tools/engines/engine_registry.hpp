@@ -16,6 +16,10 @@ std::unique_ptr<Engine> make_vlf_engine(bool fast);
 std::unique_ptr<Engine> make_stream_engine();
 std::unique_ptr<Engine> make_embree_sorted_engine();
 
+// The kd-tree of the engines that trace packets (kd16, stream): built with the options' rules and
+// triangle culling, its packet tables made.
+std::unique_ptr<KdTree> build_packet_tree(const Scene& scene, const EngineOptions& options);
+
 // The kd-tree's build statistics (kd1, kd16, stream).
 nlohmann::json tree_json(const KdBuildStats& stats);
 // crsh (sort = true: CRSH with object spheres) or rah (Roger et al.: input order, no object spheres).

@@ -7,6 +7,14 @@
 
 namespace beamtrace::workload {
 
+std::unique_ptr<KdTree> build_packet_tree(const Scene& scene, const EngineOptions& options) {
+    KdExperimental x;
+    x.triangle_culling = options.mlrta.experimental.triangle_culling;
+    auto tree = std::make_unique<KdTree>(KdTree::build(scene, options.kd_rules, options.build_progress).with_experimental(x));
+    tree->prepare_packet_queries();
+    return tree;
+}
+
 nlohmann::json tree_json(const KdBuildStats& s) {
     return {{"nodes", s.nodes},
             {"leaves", s.leaves},
@@ -62,11 +70,7 @@ class Kd16Engine : public Engine {
 public:
     std::string name() const override { return "kd16"; }
     void build(const Scene& scene, const EngineOptions& options) override {
-        KdExperimental x;
-        x.triangle_culling = options.mlrta.experimental.triangle_culling;
-        tree_ = std::make_unique<KdTree>(
-            KdTree::build(scene, options.kd_rules, options.build_progress).with_experimental(x));
-        tree_->prepare_packet_queries();
+        tree_ = build_packet_tree(scene, options);
         settings_ = options.mlrta;
     }
     double build_seconds() const override { return tree_->stats().build_seconds; }

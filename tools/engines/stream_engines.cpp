@@ -18,11 +18,7 @@ class StreamEngine : public Engine {
 public:
     std::string name() const override { return "stream"; }
     void build(const Scene& scene, const EngineOptions& options) override {
-        KdExperimental x;
-        x.triangle_culling = options.mlrta.experimental.triangle_culling;
-        tree_ = std::make_unique<KdTree>(
-            KdTree::build(scene, options.kd_rules, options.build_progress).with_experimental(x));
-        tree_->prepare_packet_queries();
+        tree_ = build_packet_tree(scene, options);
         tracer_ = std::make_unique<StreamTracer>(*tree_, options.stream);
     }
     double build_seconds() const override { return tree_->stats().build_seconds; }
