@@ -94,11 +94,13 @@ SharedPoints find_shared_points(std::span<const Ray> rays, const Box& scene_box,
 
 int shared_point_of(const Ray& ray, const SharedPoints& shared) {
     const float r2 = shared.radius * shared.radius;
+    const bool finite = std::isfinite(ray.tfar);
+    const Float3 end = finite ? far_end(ray) : ray.org;  // computed once for every point
     for (std::size_t p = 0; p < shared.points.size(); ++p) {
         const SharedPoint& s = shared.points[p];
         if (!s.ends) {
             if (ray.org.x == s.at.x && ray.org.y == s.at.y && ray.org.z == s.at.z) return int(p);
-        } else if (std::isfinite(ray.tfar) && distance2(far_end(ray), s.at) <= r2) {
+        } else if (finite && distance2(end, s.at) <= r2) {
             return int(p);
         }
     }
