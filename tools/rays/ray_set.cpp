@@ -273,48 +273,55 @@ RaySet make_area_shadow_rays(const Scene& scene, const RaySet& primary, const st
     });
 }
 
-RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits,
-                        const std::vector<Float3>& lights) {
-    check_hits(primary, hits);
-    if (lights.empty() || lights.size() > 4096) throw Error("--lights must be between 1 and 4096");
+namespace {
+
+// The rays a mode makes from each primary hit, in pixel order: per_hit(point, pixel, writer) adds
+// that hit's rays (and may close the packet first, to start a pixel's rays in a packet of their own).
+template <class PerHit>
+RaySet rays_from_hits(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits, Mode mode,
+                      PerHit&& per_hit) {
     RaySet set;
-    set.mode = Mode::shadow;
+    set.mode = mode;
     set.width = primary.width;
     set.height = primary.height;
-    const float offset = surface_offset(scene);
     PacketWriter writer(set);
     for (std::size_t slot = 0; slot < primary.slots(); ++slot) {
         if (!primary.active(slot) || !hits[slot].hit()) continue;
-        const SurfacePoint s = surface_point(scene, primary.ray(slot), hits[slot]);
-        if (lights.size() >= 16 && lights.size() % 16 == 0) writer.close();
-        for (const Float3& light : lights) {
-            Ray r;
-            if (shadow_ray(s, light, offset, r)) writer.add(r, primary.pixel[slot]);
-        }
+        per_hit(surface_point(scene, primary.ray(slot), hits[slot]), primary.pixel[slot], writer);
     }
     return set;
 }
 
+}  // namespace
+
+RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits,
+                        const std::vector<Float3>& lights) {
+    check_hits(primary, hits);
+    if (lights.empty() || lights.size() > 4096) throw Error("--lights must be between 1 and 4096");
+    const float offset = surface_offset(scene);
+    return rays_from_hits(scene, primary, hits, Mode::shadow,
+                          [&](const SurfacePoint& s, std::uint32_t pixel, PacketWriter& writer) {
+                              if (lights.size() >= 16 && lights.size() % 16 == 0) writer.close();
+                              for (const Float3& light : lights) {
+                                  Ray r;
+                                  if (shadow_ray(s, light, offset, r)) writer.add(r, pixel);
+                              }
+                          });
+}
+
 RaySet make_diffuse_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits) {
     check_hits(primary, hits);
-    RaySet set;
-    set.mode = Mode::diffuse;
-    set.width = primary.width;
-    set.height = primary.height;
     const float offset = surface_offset(scene);
-    PacketWriter writer(set);
-    for (std::size_t slot = 0; slot < primary.slots(); ++slot) {
-        if (!primary.active(slot) || !hits[slot].hit()) continue;
-        const SurfacePoint s = surface_point(scene, primary.ray(slot), hits[slot]);
-        const std::uint32_t h = hash(primary.pixel[slot] * 7919u + 0x68e31da4u);
-        Ray ray;
-        ray.org = s.position + s.normal * offset;
-        ray.dir = cosine_direction(s.normal, unit_float(h), unit_float(hash(h)));
-        ray.tnear = 0.0f;
-        ray.tfar = kInfinity;
-        writer.add(ray, primary.pixel[slot]);
-    }
-    return set;
+    return rays_from_hits(scene, primary, hits, Mode::diffuse,
+                          [&](const SurfacePoint& s, std::uint32_t pixel, PacketWriter& writer) {
+                              const std::uint32_t h = hash(pixel * 7919u + 0x68e31da4u);
+                              Ray ray;
+                              ray.org = s.position + s.normal * offset;
+                              ray.dir = cosine_direction(s.normal, unit_float(h), unit_float(hash(h)));
+                              ray.tnear = 0.0f;
+                              ray.tfar = kInfinity;
+                              writer.add(ray, pixel);
+                          });
 }
 
 AoDirections::Source parse_ao_directions(const std::string& text) {
@@ -330,20 +337,13 @@ RaySet make_ao_rays(const Scene& scene, const RaySet& primary, const std::vector
                                                   ? std::make_unique<DirectionSet>(directions.psf_directions)
                                                   : nullptr;
     if (ao_rays <= 0 || ao_rays > 4096) throw Error("--ao-rays must be between 1 and 4096");
-    RaySet set;
-    set.mode = Mode::ao;
-    set.width = primary.width;
-    set.height = primary.height;
     const float offset = surface_offset(scene), length = 0.1f * scene.bounds().diagonal();
     const int strata = int(std::sqrt(double(ao_rays)));
-    PacketWriter writer(set);
-    for (std::size_t slot = 0; slot < primary.slots(); ++slot) {
-        if (!primary.active(slot) || !hits[slot].hit()) continue;
-        const SurfacePoint s = surface_point(scene, primary.ray(slot), hits[slot]);
+    return rays_from_hits(scene, primary, hits, Mode::ao, [&](const SurfacePoint& s, std::uint32_t pixel, PacketWriter& writer) {
         const Frame f = frame_around(s.normal);  // an orthonormal frame around the normal
         if (ao_rays >= 16 && ao_rays % 16 == 0) writer.close();
         for (int i = 0; i < ao_rays; ++i) {
-            const std::uint32_t h = hash(primary.pixel[slot] * 7919u + std::uint32_t(i) * 104729u + 17u);
+            const std::uint32_t h = hash(pixel * 7919u + std::uint32_t(i) * 104729u + 17u);
             float u1 = unit_float(h), u2 = unit_float(hash(h));
             if (i < strata * strata) {  // stratified over a strata x strata grid, the rest plain random
                 u1 = (float(i % strata) + u1) / float(strata);
@@ -355,10 +355,9 @@ RaySet make_ao_rays(const Scene& scene, const RaySet& primary, const std::vector
             if (psf) ray.dir = psf_direction(*psf, ray.dir, s.normal, h);
             ray.tnear = 0.0f;
             ray.tfar = length;
-            writer.add(ray, primary.pixel[slot]);
+            writer.add(ray, pixel);
         }
-    }
-    return set;
+    });
 }
 
 Float3 UpperBox::up() const {
