@@ -45,7 +45,8 @@ struct StreamSettings {
 
 class StreamTracer {
 public:
-    // The tree must outlive the tracer (it is held by value: a KdTree is a shared handle).
+    // The tracer shares the tree (a KdTree is a shared handle). Throws beamtrace::Error for settings
+    // out of range. Span calls take at most 2^32 - 1 rays (more: beamtrace::Error).
     explicit StreamTracer(const KdTree& tree, const StreamSettings& settings = {});
 
     // The query contract (query.hpp). Spans of rays: sorted and grouped as above; single rays and

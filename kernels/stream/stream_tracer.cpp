@@ -61,8 +61,11 @@ void in_arena(int threads, F&& f) {
     arena.execute(f);
 }
 
+// Keys, sort, gather and groups of a call's rays into `out` (the calling thread's buffers).
 void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray> rays, bool occlusion,
-                 const QueryOptions& options, SortedStream& out, bool groups) {
+                 const QueryOptions& options, SortedStream& out) {
+    if (rays.size() > std::size_t(0xFFFFFFFFu))
+        throw Error("StreamTracer: at most 4294967295 rays per call, not " + std::to_string(rays.size()));
     stream::SharedPoints shared = stream::find_shared_points(rays, bounds, s.sample_rays, s.shared_point_fraction,
                                                              StreamSettings::kMaxSharedPoints);
     if (!occlusion) std::erase_if(shared.points, [](const stream::SharedPoint& p) { return p.ends; });
@@ -75,7 +78,6 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
     });
     in_arena(options.threads,
              [&] { stream::sort_by_key(out.keys, out.order, out.sorted_keys, options.threads, out.scratch); });
-    if (!groups) return;
     run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
         // Random reads: fetch a few rays ahead so that their misses overlap.
         constexpr std::size_t kAhead = 16;
@@ -231,7 +233,7 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, std::span<const R
     const auto start = std::chrono::steady_clock::now();
     // The calling thread's buffers, kept from call to call (no fresh pages per call).
     static thread_local SortedStream sorted;
-    sort_stream(kd.scene.bounds(), s, rays, kOcclusion, options, sorted, true);
+    sort_stream(kd.scene.bounds(), s, rays, kOcclusion, options, sorted);
     const auto sorted_at = std::chrono::steady_clock::now();
     const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, out);
     run_query(sorted.groups.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
@@ -282,7 +284,7 @@ void stream_order(std::span<const Ray> rays, const Box& scene_bounds, bool close
         return;
     }
     SortedStream sorted;
-    sort_stream(scene_bounds, settings, rays, !closest_hit, options, sorted, true);
+    sort_stream(scene_bounds, settings, rays, !closest_hit, options, sorted);
     std::copy(sorted.order.begin(), sorted.order.end(), order.begin());
 }
 
