@@ -3,6 +3,7 @@
 #include "beamtrace/stream.hpp"
 
 #include <chrono>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -231,8 +232,20 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, std::span<const R
     }
     const KdTree::Impl& kd = detail::Access::impl(tree);
     const auto start = std::chrono::steady_clock::now();
-    // The calling thread's buffers, kept from call to call (no fresh pages per call).
-    static thread_local SortedStream sorted;
+    // The calling thread's buffers, kept from call to call (no fresh pages per call); a call made
+    // while they are in use on this thread (from a task run during another call) gets its own.
+    static thread_local SortedStream kept;
+    static thread_local bool kept_in_use = false;
+    std::optional<SortedStream> own;
+    const bool use_kept = !kept_in_use;
+    SortedStream& sorted = use_kept ? kept : own.emplace();
+    if (use_kept) kept_in_use = true;
+    struct Release {
+        bool on;
+        ~Release() {
+            if (on) kept_in_use = false;
+        }
+    } release{use_kept};
     sort_stream(kd.scene.bounds(), s, rays, kOcclusion, options, sorted);
     const auto sorted_at = std::chrono::steady_clock::now();
     const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, out);
