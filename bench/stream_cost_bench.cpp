@@ -55,7 +55,7 @@ struct StreamCase {
     std::vector<std::uint32_t> keys, order, sorted_keys;
     std::vector<Ray> sorted;
     std::vector<stream::RayGroup> groups;
-    std::vector<std::uint64_t> scratch;
+    stream::SortBuffers sort_buffers;
 };
 
 std::unique_ptr<StreamCase> build_case(const std::string& name) {
@@ -80,7 +80,7 @@ std::unique_ptr<StreamCase> build_case(const std::string& name) {
     c->sorted_keys.resize(n);
     c->sorted.resize(n);
     stream::make_keys(c->rays, kd.bounds, c->shared, c->keys);
-    stream::sort_by_key(c->keys, c->order, c->sorted_keys, 1, c->scratch);
+    stream::sort_by_key(c->keys, c->order, c->sorted_keys, 1, c->sort_buffers);
     for (std::size_t k = 0; k < n; ++k) c->sorted[k] = c->rays[c->order[k]];
     stream::cut_groups(c->sorted, c->sorted_keys, c->order, 4, c->groups);
     return c;
@@ -128,7 +128,7 @@ void bm_radix_sort(benchmark::State& state, const std::string& name) {
     StreamCase& c = stream_case(name);
     if (!usable(state, c)) return;
     for (auto _ : state) {
-        stream::sort_by_key(c.keys, c.order, c.sorted_keys, 1, c.scratch);
+        stream::sort_by_key(c.keys, c.order, c.sorted_keys, 1, c.sort_buffers);
         benchmark::DoNotOptimize(c.order.data());
     }
     per_ray(state, c.rays.size());

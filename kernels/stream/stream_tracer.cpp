@@ -47,7 +47,7 @@ constexpr std::size_t kPencilBlock = 4;
 struct SortedStream {
     std::vector<std::uint32_t> keys, order, sorted_keys;
     std::vector<Ray> rays;  // in sorted order
-    std::vector<std::uint64_t> scratch;
+    stream::SortBuffers sort_buffers;
     std::vector<RayGroup> groups;
 };
 
@@ -78,7 +78,7 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
         stream::make_keys(rays.subspan(b, e - b), bounds, shared, std::span(out.keys).subspan(b, e - b));
     });
     in_arena(options.threads,
-             [&] { stream::sort_by_key(out.keys, out.order, out.sorted_keys, options.threads, out.scratch); });
+             [&] { stream::sort_by_key(out.keys, out.order, out.sorted_keys, options.threads, out.sort_buffers); });
     run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
         // Random reads: fetch a few rays ahead so that their misses overlap.
         constexpr std::size_t kAhead = 16;

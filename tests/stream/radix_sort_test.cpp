@@ -19,9 +19,9 @@ void check(const std::vector<std::uint32_t>& keys, int parts) {
     std::iota(expected.begin(), expected.end(), 0u);
     std::stable_sort(expected.begin(), expected.end(), [&](auto a, auto b) { return keys[a] < keys[b]; });
     std::vector<std::uint32_t> order(keys.size()), sorted(keys.size());
-    std::vector<std::uint64_t> scratch;
+    SortBuffers buffers;
     tbb::task_arena arena(parts);
-    arena.execute([&] { sort_by_key(keys, order, sorted, parts, scratch); });
+    arena.execute([&] { sort_by_key(keys, order, sorted, parts, buffers); });
     EXPECT_EQ(order, expected);
     for (std::size_t k = 0; k < keys.size(); ++k) ASSERT_EQ(sorted[k], keys[order[k]]);
 }
