@@ -58,6 +58,10 @@ foreach(source
     mlrta/entry_point_search.cpp
     mlrta/entry_point_trace.cpp
     mlrta/shadow_reversal.cpp
+    raycls/cell_beam.cpp
+    raycls/candidate_list.cpp
+    raycls/cell_tree.cpp
+    raycls/ray_classification.cpp
     mlrta/tile_tracer.cpp
     mlrta/mlrta.cpp
     crsh/bounding_spheres.cpp

@@ -5,6 +5,7 @@
 #include "beamtrace/kdtree.hpp"
 #include "beamtrace/mlrta.hpp"
 #include "beamtrace/ray.hpp"
+#include "beamtrace/ray_classification.hpp"
 #include "beamtrace/scene.hpp"
 #include "beamtrace/stats.hpp"
 #include "beamtrace/stream.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// The query contract every accelerator (KdTree, Mlrta, VisibilityField, Crsh) offers, the same six calls:
+// The query contract every accelerator (KdTree, Mlrta, VisibilityField, Crsh, RayClassification) offers, the same six calls:
 //
 //   Hit  intersect(const Ray&) const;                  bool occluded(const Ray&) const;
 //   void intersect(std::span<const Ray>, std::span<Hit>, const QueryOptions& = {}) const;
@@ -71,6 +71,15 @@ struct QueryCounters {
         std::uint64_t key_ns = 0, sort_ns = 0, hierarchy_ns = 0, traversal_ns = 0;
     } crsh;
 
+    // Ray classification (ray_classification.hpp).
+    struct RayCls {
+        std::uint64_t rays = 0;               // rays classified (those that describe a segment in the scene's box)
+        std::uint64_t light_buffer_rays = 0;  // of which through a light buffer
+        std::uint64_t cache_hits = 0;         // rays whose cell was the thread's last one
+        std::uint64_t descent_steps = 0;      // cells passed on the way down from a face (cache misses)
+        std::uint64_t candidates = 0;         // candidates examined (the thesis's bound tests)
+    } raycls;
+
     QueryCounters& operator+=(const QueryCounters& o) {
         rays += o.rays;
         packets += o.packets;
@@ -108,6 +117,11 @@ struct QueryCounters {
         crsh.sort_ns += o.crsh.sort_ns;
         crsh.hierarchy_ns += o.crsh.hierarchy_ns;
         crsh.traversal_ns += o.crsh.traversal_ns;
+        raycls.rays += o.raycls.rays;
+        raycls.light_buffer_rays += o.raycls.light_buffer_rays;
+        raycls.cache_hits += o.raycls.cache_hits;
+        raycls.descent_steps += o.raycls.descent_steps;
+        raycls.candidates += o.raycls.candidates;
         return *this;
     }
 };

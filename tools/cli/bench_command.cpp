@@ -26,6 +26,7 @@ struct BenchArgs {
     bool anchor_engines = true;
     bool embree_robust = true;
     CrshSettings crsh;
+    RayClsSettings raycls;
     double crsh_budget_millions = double(workload::EngineOptions::kDefaultCrshBudget) / 1e6;
 };
 
@@ -142,6 +143,7 @@ std::function<void()> add_bench_command(CLI::App& app) {
                     "million (docs/crsh.md)")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    add_raycls_options(*cmd, args->raycls);
     cmd->add_flag("--anchor-engines,!--no-anchor-engines", args->anchor_engines,
                   "time every Embree engine (embree1, embree16, embree-stream) even when --engines leaves it out, so "
                   "that the anchor, the fastest of them, is Embree at its best (default on; off: the anchor is the "
@@ -189,6 +191,8 @@ std::function<void()> add_bench_command(CLI::App& app) {
         args->crsh.validate();
         bo.engine_options.crsh = args->crsh;
         bo.engine_options.crsh_budget = static_cast<std::uint64_t>(args->crsh_budget_millions * 1e6);
+        args->raycls.validate();
+        bo.engine_options.raycls = args->raycls;
         for (const std::string& e : bo.engines) workload::make_engine(e);  // reject unknown names before loading
         const workload::Workload w = workload::make_workload(wc);
         const workload::BenchResult result = workload::run_bench(w, bo);

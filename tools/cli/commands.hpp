@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "beamtrace/ray_classification.hpp"
 #include "rays/workload.hpp"
 
 namespace beamtrace::cli {
@@ -40,6 +41,10 @@ struct RayOptions {
     std::string order = "input";
 };
 void add_ray_options(CLI::App& command, RayOptions& options);
+
+// raycls's settings: --raycls-depth, --raycls-light-depth, --raycls-min-candidates, --raycls-memory,
+// --no-raycls-cache, --no-light-buffers.
+void add_raycls_options(CLI::App& command, RayClsSettings& settings);
 
 // The workload they describe (throws beamtrace::Error for a bad camera, light, mode or order, or
 // options that do not go together: WorkloadConfig::validate).

@@ -64,6 +64,29 @@ void add_ray_options(CLI::App& command, RayOptions& o) {
         ->capture_default_str();
 }
 
+void add_raycls_options(CLI::App& command, RayClsSettings& s) {
+    command.add_option("--raycls-depth", s.max_depth, "raycls: levels of the 5D tree (32 children each; 0: automatic)")
+        ->capture_default_str();
+    command
+        .add_option("--raycls-light-depth", s.light_buffer_max_depth,
+                    "raycls: levels of a light buffer (4 children each; 0: automatic from the triangle count)")
+        ->capture_default_str();
+    command
+        .add_option("--raycls-min-candidates", s.min_candidates,
+                    "raycls: cells with at most this many candidates are not subdivided (the thesis's m)")
+        ->capture_default_str();
+    command
+        .add_option("--raycls-memory", s.memory_budget_bytes,
+                    "raycls: bytes the lazily made cells may hold, e.g. 512M, 2G (0: unbounded); beyond it rays "
+                    "whose cell is missing are traced by the kd-tree and old cells are freed between calls")
+        ->transform(CLI::AsSizeValue(false))
+        ->capture_default_str();
+    command.add_flag("--raycls-cache,!--no-raycls-cache", s.cache,
+                     "raycls: try each thread's last cell first (default on)");
+    command.add_flag("--light-buffers,!--no-light-buffers", s.light_buffers,
+                     "raycls: direction maps around a point every ray of a call ends or starts at (default on)");
+}
+
 workload::WorkloadConfig workload_config(const SceneOptions& scene, const RayOptions& rays) {
     workload::WorkloadConfig wc;
     wc.scene = scene.scene;

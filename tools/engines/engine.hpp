@@ -15,6 +15,7 @@
 #include "beamtrace/crsh.hpp"
 #include "beamtrace/kdtree.hpp"
 #include "beamtrace/mlrta.hpp"
+#include "beamtrace/ray_classification.hpp"
 #include "beamtrace/scene.hpp"
 #include "beamtrace/stream.hpp"
 #include "beamtrace/vlf.hpp"
@@ -42,6 +43,8 @@ struct EngineOptions {
     // crsh, rah: the work budget. A ray set whose predicted top-level sphere tests
     // (Crsh::predicted_top_level_tests) exceed it is refused with an error (docs/crsh.md).
     std::uint64_t crsh_budget = kDefaultCrshBudget;
+    // raycls: depths, candidates, cache, light buffers, memory budget.
+    RayClsSettings raycls;
     static constexpr std::uint64_t kDefaultCrshBudget = 1'000'000'000ull;
 };
 

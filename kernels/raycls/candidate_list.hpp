@@ -1,0 +1,54 @@
+#pragma once
+// The candidate set of a ray-space cell: the triangles its beam may meet, sorted by where they start
+// along the face's direction (key = s * the triangle's nearest coordinate on the face axis: the
+// smallest x_k for + faces, minus the largest for - faces), ties by triangle id, with copies of their
+// corners side by side so a ray's tests read them front to back.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "beamtrace/scene.hpp"
+#include "kdtree/kd_node.hpp"
+#include "raycls/cell_beam.hpp"
+
+namespace beamtrace::raycls {
+
+// The rectangle of directions (u, v on the face) from a light buffer's apex box to a triangle.
+struct DirectionRect {
+    float u0, u1, v0, v1;
+};
+
+struct CandidateList {
+    std::vector<float> key;
+    std::vector<std::uint32_t> id;
+    std::vector<Triangle> corners;
+    std::vector<DirectionRect> rect;  // light buffers only: per candidate, seen from the apex box
+
+    std::size_t size() const { return id.size(); }
+    std::size_t memory_bytes() const {
+        return key.capacity() * sizeof(float) + id.capacity() * sizeof(std::uint32_t) +
+               corners.capacity() * sizeof(Triangle) + rect.capacity() * sizeof(DirectionRect);
+    }
+};
+
+// The key of a triangle on a face.
+float candidate_key(const Triangle& tri, int face);
+
+// The non-degenerate triangles of the kd-tree's leaves that the beam may meet (the tree's nodes
+// culled by the beam first). scratch: the caller's reusable buffer.
+CandidateList candidates_from_tree(const KdTree::Impl& tree, const CellBeam& beam, int face,
+                                   std::vector<std::uint32_t>& scratch);
+
+// The parent's candidates the beam may meet, in the parent's order (the same face).
+CandidateList candidates_from_parent(const CandidateList& parent, const CellBeam& beam);
+
+// Light buffers: the directions from the apex box to each candidate (the face's list of a cell that
+// covers the whole face, made by candidates_from_tree). A triangle not wholly in front of the box
+// gets the whole face (it cannot be bounded; only triangles next to the light are). direction_margin
+// pads every rectangle.
+void add_direction_rects(CandidateList& list, const Box& apex, int face, double direction_margin);
+
+// The parent's candidates whose rectangles meet the cell's (u, v) rectangle, in the parent's order.
+CandidateList candidates_in_rect(const CandidateList& parent, const CellBounds& cell);
+
+}  // namespace beamtrace::raycls

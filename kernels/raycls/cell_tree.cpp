@@ -1,0 +1,172 @@
+// Lazily made ray-space cells (cell_tree.hpp).
+#include "raycls/cell_tree.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+namespace beamtrace::raycls {
+
+namespace {
+
+// A parent list longer than this is not filtered: its child's candidates come from the kd-tree,
+// whose culling of whole subtrees costs less than testing every one of the parent's triangles.
+constexpr std::size_t kLargestFilteredList = 16384;
+
+thread_local std::vector<std::uint32_t> t_scratch;
+
+}  // namespace
+
+void CellContext::add_bytes(std::size_t b) {
+    const std::size_t now = bytes.fetch_add(b, std::memory_order_relaxed) + b;
+    std::size_t peak = peak_bytes.load(std::memory_order_relaxed);
+    while (now > peak && !peak_bytes.compare_exchange_weak(peak, now, std::memory_order_relaxed)) {
+    }
+}
+
+CellTree::CellTree(CellContext& context, const Box& origins, bool split_origins, int max_depth)
+    : context_(context), origins_(origins), split_origins_(split_origins), max_depth_(max_depth) {
+    for (int f = 0; f < 6; ++f) {
+        auto root = std::make_unique<Cell>();
+        for (int k = 0; k < 3; ++k) {
+            root->bounds.lo[k] = origins.lower[k];
+            root->bounds.hi[k] = origins.upper[k];
+        }
+        root->bounds.face = f;
+        root->whole_scene = split_origins;  // a light buffer's face list is made on first use
+        root->children = std::make_unique<std::atomic<Cell*>[]>(std::size_t(slots()));
+        for (int i = 0; i < slots(); ++i) root->children[std::size_t(i)].store(nullptr, std::memory_order_relaxed);
+        context_.add_bytes(root->memory_bytes(slots()));
+        roots_[f] = std::move(root);
+    }
+}
+
+CellTree::~CellTree() {
+    for (auto& root : roots_) {
+        for (int i = 0; i < slots(); ++i) free_subtree(root->children[std::size_t(i)]);
+        context_.remove_bytes(root->memory_bytes(slots()));
+        context_.entries.fetch_sub(root->list.size(), std::memory_order_relaxed);
+    }
+}
+
+Cell* CellTree::make_child(const Cell& parent, int index) const {
+    const auto start = std::chrono::steady_clock::now();
+    auto c = std::make_unique<Cell>();
+    c->bounds = child_bounds(parent.bounds, index, split_origins_);
+    c->depth = parent.depth + 1;
+    const CellBeam beam = make_cell_beam(c->bounds, context_.origin_margin, context_.direction_margin);
+    if (!split_origins_)
+        c->list = candidates_in_rect(parent.list, c->bounds);
+    else if (parent.whole_scene || parent.list.size() > kLargestFilteredList)
+        c->list = candidates_from_tree(*context_.tree, beam, c->bounds.face, t_scratch);
+    else
+        c->list = candidates_from_parent(parent.list, beam);
+    c->final = c->list.size() <= std::size_t(context_.min_candidates) || c->depth >= max_depth_;
+    if (!c->final) {
+        c->children = std::make_unique<std::atomic<Cell*>[]>(std::size_t(slots()));
+        for (int i = 0; i < slots(); ++i) c->children[std::size_t(i)].store(nullptr, std::memory_order_relaxed);
+    }
+    context_.add_bytes(c->memory_bytes(slots()));
+    context_.entries.fetch_add(c->list.size(), std::memory_order_relaxed);
+    context_.cells_created.fetch_add(1, std::memory_order_relaxed);
+    int deepest = context_.max_depth_reached.load(std::memory_order_relaxed);
+    while (c->depth > deepest &&
+           !context_.max_depth_reached.compare_exchange_weak(deepest, c->depth, std::memory_order_relaxed)) {
+    }
+    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start);
+    context_.build_ns.fetch_add(std::uint64_t(ns.count()), std::memory_order_relaxed);
+    return c.release();
+}
+
+void CellTree::make_root_list(Cell& root) const {
+    const auto start = std::chrono::steady_clock::now();
+    const CellBeam beam = make_cell_beam(root.bounds, context_.origin_margin, context_.direction_margin);
+    root.list = candidates_from_tree(*context_.tree, beam, root.bounds.face, t_scratch);
+    add_direction_rects(root.list, origins_, root.bounds.face, context_.direction_margin);
+    context_.add_bytes(root.list.memory_bytes());
+    context_.entries.fetch_add(root.list.size(), std::memory_order_relaxed);
+    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start);
+    context_.build_ns.fetch_add(std::uint64_t(ns.count()), std::memory_order_relaxed);
+}
+
+Cell* CellTree::child(Cell& parent, int index) const {
+    std::atomic<Cell*>& slot = parent.children[std::size_t(index)];
+    Cell* c = slot.load(std::memory_order_acquire);
+    if (c) return c;
+    if (!context_.may_grow()) return nullptr;
+    if (!split_origins_ && parent.depth == 0)
+        std::call_once(root_once_[parent.bounds.face], [&] { make_root_list(parent); });
+    Cell* made = make_child(parent, index);
+    Cell* expected = nullptr;
+    if (slot.compare_exchange_strong(expected, made, std::memory_order_acq_rel, std::memory_order_acquire))
+        return made;
+    // Another thread made the same cell first (the same candidates: a cell's set is a function of
+    // its bounds); keep theirs.
+    context_.cells_created.fetch_sub(1, std::memory_order_relaxed);
+    delete_cell(made);
+    return expected;
+}
+
+void CellTree::delete_cell(Cell* c) const {
+    if (!c) return;
+    if (!c->final)
+        for (int i = 0; i < slots(); ++i) delete_cell(c->children[std::size_t(i)].exchange(nullptr));
+    context_.remove_bytes(c->memory_bytes(slots()));
+    context_.entries.fetch_sub(c->list.size(), std::memory_order_relaxed);
+    delete c;
+}
+
+void CellTree::free_subtree(std::atomic<Cell*>& slot) const {
+    Cell* c = slot.exchange(nullptr);
+    if (!c) return;
+    std::uint64_t count = 0;
+    // Count the cells freed (the subtree's).
+    std::vector<const Cell*> todo{c};
+    while (!todo.empty()) {
+        const Cell* x = todo.back();
+        todo.pop_back();
+        ++count;
+        if (!x->final)
+            for (int i = 0; i < slots(); ++i)
+                if (const Cell* y = x->children[std::size_t(i)].load(std::memory_order_relaxed)) todo.push_back(y);
+    }
+    context_.cells_freed.fetch_add(count, std::memory_order_relaxed);
+    delete_cell(c);
+}
+
+namespace {
+
+// The latest use in c's subtree; appends an entry for every non-root cell.
+std::uint64_t collect(const CellTree& tree, const Cell& c, std::atomic<Cell*>* slot,
+                      std::vector<PruneEntry>& out) {
+    std::uint64_t last = c.last_used.load(std::memory_order_relaxed);
+    if (!c.final)
+        for (int i = 0; i < tree.slots(); ++i) {
+            std::atomic<Cell*>& s = c.children[std::size_t(i)];
+            if (const Cell* y = s.load(std::memory_order_relaxed)) last = std::max(last, collect(tree, *y, &s, out));
+        }
+    if (slot) out.push_back(PruneEntry{last, c.depth, slot, &tree});
+    return last;
+}
+
+}  // namespace
+
+void CellTree::collect_prunable(std::vector<PruneEntry>& out) const {
+    for (const auto& root : roots_) collect(*this, *root, nullptr, out);
+}
+
+void prune(CellContext& context, const std::vector<const CellTree*>& trees, std::size_t target) {
+    if (context.bytes.load() <= target) return;
+    std::vector<PruneEntry> entries;
+    for (const CellTree* t : trees) t->collect_prunable(entries);
+    // Oldest first; a subtree is never older than its cells, and deeper cells go first among equals,
+    // so a cell is freed before (or with) its parent, never after.
+    std::sort(entries.begin(), entries.end(), [](const PruneEntry& a, const PruneEntry& b) {
+        return a.last_used < b.last_used || (a.last_used == b.last_used && a.depth > b.depth);
+    });
+    for (const PruneEntry& e : entries) {
+        if (context.bytes.load() <= target) break;
+        e.tree->free_subtree(*e.slot);
+    }
+}
+
+}  // namespace beamtrace::raycls

@@ -1,0 +1,114 @@
+#pragma once
+// The lazily made cells of one ray classification: six face roots over an origin box (the scene's
+// box for the 5D tree; a light buffer's tiny box around a shared point), children made the first
+// time a ray reaches them, published with a compare-and-swap so readers never lock. A child halves
+// the direction rectangle (4 children) and, in the 5D tree, the origin box too (32 children: one of
+// the thesis's levels). A cell with few candidates, or at the depth limit, keeps its list for rays.
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "beamtrace/query.hpp"
+#include "raycls/candidate_list.hpp"
+#include "raycls/ray_space.hpp"
+
+namespace beamtrace::raycls {
+
+// What every cell tree of a classification shares: the kd-tree, the rules, the margins and the
+// accounting.
+struct CellContext {
+    const KdTree::Impl* tree = nullptr;
+    int min_candidates = 6;
+    std::size_t memory_budget = 0;  // 0: unbounded
+    double origin_margin = 0.0, direction_margin = 0.0;
+    std::atomic<std::size_t> bytes{0}, peak_bytes{0};
+    std::atomic<std::uint64_t> cells_created{0}, cells_freed{0}, entries{0}, build_ns{0}, epoch{1};
+    std::atomic<int> max_depth_reached{0};
+
+    void add_bytes(std::size_t b);
+    void remove_bytes(std::size_t b) { bytes.fetch_sub(b, std::memory_order_relaxed); }
+    // New cells may be made (the budget is not exhausted).
+    bool may_grow() const {
+        return memory_budget == 0 || bytes.load(std::memory_order_relaxed) < memory_budget;
+    }
+};
+
+struct Cell {
+    CellBounds bounds;
+    CandidateList list;
+    bool whole_scene = false;  // a root: its list is not made (children come from the kd-tree)
+    bool final = false;        // rays use the list; no children
+    int depth = 0;
+    std::unique_ptr<std::atomic<Cell*>[]> children;  // 4 or 32 slots unless final
+    std::atomic<std::uint64_t> last_used{0};         // the context's epoch of the last ray here
+
+    std::size_t memory_bytes(int slots) const {
+        return sizeof(Cell) + list.memory_bytes() + (final ? 0 : std::size_t(slots) * sizeof(void*));
+    }
+};
+
+class CellTree {
+public:
+    // split_origins: the 5D tree (32 children); false: a light buffer (4).
+    CellTree(CellContext& context, const Box& origins, bool split_origins, int max_depth);
+    ~CellTree();
+    CellTree(const CellTree&) = delete;
+    CellTree& operator=(const CellTree&) = delete;
+
+    // The final cell of the point p (inside origins(), or anywhere for a light buffer) and direction;
+    // nullptr when a cell on the way would have to be made and the memory budget is exhausted.
+    template <bool kCount>
+    const Cell* find(const float p[3], const DirectionCode& d, QueryCounters* counters) const;
+
+    const Box& origins() const { return origins_; }
+    bool split_origins() const { return split_origins_; }
+    int slots() const { return split_origins_ ? 32 : 4; }
+
+    // An entry per non-root cell (for prune(), below); frees a cell and its subtree. Only while no
+    // thread queries.
+    void collect_prunable(std::vector<struct PruneEntry>& out) const;
+    void free_subtree(std::atomic<Cell*>& slot) const;
+
+private:
+    Cell* child(Cell& parent, int index) const;
+    // A light buffer's face list (every candidate of the face, with its direction rectangle), made
+    // the first time a child of that face is.
+    void make_root_list(Cell& root) const;
+    Cell* make_child(const Cell& parent, int index) const;
+    void delete_cell(Cell* c) const;
+
+    CellContext& context_;
+    Box origins_;
+    bool split_origins_;
+    int max_depth_;
+    std::unique_ptr<Cell> roots_[6];
+    mutable std::once_flag root_once_[6];
+};
+
+struct PruneEntry {
+    std::uint64_t last_used;  // of the subtree
+    int depth;
+    std::atomic<Cell*>* slot;
+    const CellTree* tree;
+};
+
+// The least recently used subtrees of the trees freed until the context holds at most target bytes.
+void prune(CellContext& context, const std::vector<const CellTree*>& trees, std::size_t target);
+
+template <bool kCount>
+const Cell* CellTree::find(const float p[3], const DirectionCode& d, QueryCounters* counters) const {
+    Cell* c = roots_[d.face].get();
+    while (!c->final) {
+        c = child(*c, child_index(c->bounds, p, d.u, d.v, split_origins_));
+        if (!c) return nullptr;
+        if constexpr (kCount) ++counters->raycls.descent_steps;
+    }
+    const std::uint64_t epoch = context_.epoch.load(std::memory_order_relaxed);
+    if (c->last_used.load(std::memory_order_relaxed) != epoch) c->last_used.store(epoch, std::memory_order_relaxed);
+    return c;
+}
+
+}  // namespace beamtrace::raycls

@@ -1,0 +1,329 @@
+// RayClassification (beamtrace/ray_classification.hpp): the 5D tree, light buffers around shared
+// points, and the query contract over them.
+#include "beamtrace/ray_classification.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <shared_mutex>
+#include <string>
+#include <vector>
+
+#include "beamtrace/error.hpp"
+#include "common/access.hpp"
+#include "common/query_runner.hpp"
+#include "common/ray_validity.hpp"
+#include "kdtree/ray_traversal.hpp"
+#include "raycls/candidate_tests.hpp"
+#include "raycls/cell_tree.hpp"
+
+namespace beamtrace {
+
+using raycls::CellTree;
+using raycls::DirectionCode;
+
+void RayClsSettings::validate() const {
+    if (max_depth < 0 || max_depth > 12)
+        throw Error("ray classification: max_depth must be 0 (automatic) to 12, not " + std::to_string(max_depth));
+    if (light_buffer_max_depth < 0 || light_buffer_max_depth > 20)
+        throw Error("ray classification: light_buffer_max_depth must be 0 (automatic) to 20, not " +
+                    std::to_string(light_buffer_max_depth));
+    if (min_candidates < 0)
+        throw Error("ray classification: min_candidates must be at least 0, not " + std::to_string(min_candidates));
+}
+
+namespace {
+
+// Light buffers kept at once (a call around a new point beyond this uses the 5D tree).
+constexpr std::size_t kMaxLightBuffers = 64;
+// Span calls shorter than this never make a light buffer (a single ray shares its own point).
+constexpr std::size_t kMinLightBufferRays = 64;
+
+int log2_ceil(double x) { return x <= 1.0 ? 0 : int(std::ceil(std::log2(x))); }
+
+}  // namespace
+
+struct RayClassification::Impl {
+    KdTree tree;
+    RayClsSettings settings;
+    const TriangleKernels* kernels = nullptr;
+    int space_depth = 5, light_depth = 8;
+    float scene_scale = 1.0f;     // largest coordinate magnitude of the tree's box
+    float shared_point_size = 0;  // largest box of shared points (light buffers' apex)
+    mutable raycls::CellContext context;
+    std::unique_ptr<CellTree> space;
+    mutable std::mutex buffers_mutex;
+    mutable std::vector<std::unique_ptr<CellTree>> buffers;
+    mutable std::shared_mutex use_mutex;  // queries share it; pruning and clear() take it alone
+
+    Impl(const KdTree& t, const RayClsSettings& s) : tree(t), settings(s) {
+        settings.validate();
+        const KdTree::Impl& ti = detail::Access::impl(tree);
+        kernels = ti.kernels ? ti.kernels : &triangle_kernels();
+        const std::size_t n = std::max<std::size_t>(1, ti.scene.triangle_count());
+        space_depth = settings.max_depth ? settings.max_depth : std::clamp((log2_ceil(double(n)) + 2) / 3, 5, 8);
+        light_depth = settings.light_buffer_max_depth ? settings.light_buffer_max_depth
+                                                      : std::clamp(log2_ceil(double(n) / 6.0) / 2, 6, 12);
+        const Box& b = ti.bounds;
+        for (int k = 0; k < 3; ++k)
+            scene_scale = std::max(scene_scale, std::max(std::fabs(b.lower[k]), std::fabs(b.upper[k])));
+        shared_point_size = b.diagonal() * (1.0f / 4096.0f);
+        context.tree = &ti;
+        context.min_candidates = settings.min_candidates;
+        context.memory_budget = settings.memory_budget_bytes;
+        // Rounding of the points rays are classified from (float sums of the scene's magnitude) and
+        // of the direction codes (one division, |u| <= 1): both far below the margins.
+        context.origin_margin = double(scene_scale) * 1e-5;
+        context.direction_margin = 1e-6;
+        space = std::make_unique<CellTree>(context, b, true, space_depth);
+    }
+
+    // Frees cells while no call runs: down to half the budget when over it.
+    void start_call() const {
+        context.epoch.fetch_add(1, std::memory_order_relaxed);
+        if (settings.memory_budget_bytes == 0 || context.bytes.load() <= settings.memory_budget_bytes) return;
+        std::unique_lock<std::shared_mutex> alone(use_mutex, std::try_to_lock);
+        if (!alone.owns_lock()) return;
+        std::vector<const CellTree*> trees{space.get()};
+        for (const auto& b : buffers) trees.push_back(b.get());
+        raycls::prune(context, trees, settings.memory_budget_bytes / 2);
+    }
+
+    // The light buffer whose apex box holds `points`, made when there is none (nullptr when too many).
+    const CellTree* light_buffer(const Box& points) const {
+        std::lock_guard<std::mutex> lock(buffers_mutex);
+        for (const auto& b : buffers) {
+            const Box& o = b->origins();
+            if (o.lower.x <= points.lower.x && o.lower.y <= points.lower.y && o.lower.z <= points.lower.z &&
+                o.upper.x >= points.upper.x && o.upper.y >= points.upper.y && o.upper.z >= points.upper.z)
+                return b.get();
+        }
+        if (buffers.size() >= kMaxLightBuffers) return nullptr;
+        // A little room around the points, so that later calls around the same point reuse it.
+        Box apex = points;
+        const float grow = shared_point_size * 0.25f;
+        apex.lower = apex.lower - Float3{grow, grow, grow};
+        apex.upper = apex.upper + Float3{grow, grow, grow};
+        buffers.push_back(std::make_unique<CellTree>(context, apex, false, light_depth));
+        return buffers.back().get();
+    }
+};
+
+namespace {
+
+using Impl = RayClassification::Impl;
+
+// How a call classifies its rays.
+enum class Frame { space, from_start, from_end };
+
+struct CallPlan {
+    Frame frame = Frame::space;
+    const CellTree* cells = nullptr;
+};
+
+inline float origin_of(const Ray& r, int k) { return r.org[k] + r.tnear * r.dir[k]; }
+
+// A shared end point (occlusion only: classified from the light) or a shared start point.
+CallPlan plan_call(const Impl& impl, std::span<const Ray> rays, bool occlusion) {
+    CallPlan plan{Frame::space, impl.space.get()};
+    if (!impl.settings.light_buffers || rays.size() < kMinLightBufferRays) return plan;
+    Box starts, ends;
+    bool finite_ends = occlusion;
+    std::size_t valid = 0;
+    for (const Ray& r : rays) {
+        if (!describes_segment(r)) continue;
+        ++valid;
+        starts.extend(Float3{origin_of(r, 0), origin_of(r, 1), origin_of(r, 2)});
+        if (finite_ends) {
+            if (r.tfar == kInfinity) {
+                finite_ends = false;
+                continue;
+            }
+            ends.extend(r.org + r.dir * r.tfar);
+        }
+    }
+    if (valid == 0) return plan;
+    const float size = impl.shared_point_size;
+    auto small = [size](const Box& b) { return !b.empty() && std::isfinite(b.diagonal()) && b.diagonal() <= size; };
+    if (finite_ends && small(ends)) {
+        if (const CellTree* t = impl.light_buffer(ends)) return CallPlan{Frame::from_end, t};
+    } else if (small(starts)) {
+        if (const CellTree* t = impl.light_buffer(starts)) return CallPlan{Frame::from_start, t};
+    }
+    return plan;
+}
+
+// One ray: its cell (the part's cache first), then its candidates; the kd-tree when the memory budget
+// leaves no room for its cell.
+template <bool kOcclusion, bool kCount>
+Hit trace_one(const Impl& impl, const CallPlan& plan, const Ray& r, const raycls::Cell*& cache,
+              QueryCounters* counters) {
+    Hit none;
+    if (!describes_segment(r)) return none;
+    Ray ray = r;
+    float p[3];
+    DirectionCode code;
+    if (plan.frame == Frame::space) {
+        // The part of the segment inside the scene's box, classified from where it enters.
+        const Box& box = plan.cells->origins();
+        const Float3 inv{1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z};
+        float tmin, tmax;
+        if (!kdtree::clip_to_box(r, inv, box, tmin, tmax)) return none;
+        for (int k = 0; k < 3; ++k) p[k] = std::clamp(r.org[k] + tmin * r.dir[k], box.lower[k], box.upper[k]);
+        code = raycls::direction_code(r.dir);
+    } else if (plan.frame == Frame::from_start) {
+        for (int k = 0; k < 3; ++k) p[k] = origin_of(r, k);
+        code = raycls::direction_code(r.dir);
+    } else {
+        for (int k = 0; k < 3; ++k) p[k] = 0.0f;  // not read: a light buffer's origins are not split
+        code = raycls::direction_code(Float3{-r.dir.x, -r.dir.y, -r.dir.z});
+    }
+    if constexpr (kCount) {
+        ++counters->raycls.rays;
+        if (plan.frame != Frame::space) ++counters->raycls.light_buffer_rays;
+    }
+    const raycls::Cell* cell = nullptr;
+    if (cache && raycls::cell_contains(cache->bounds, p, code.face, code.u, code.v, plan.frame == Frame::space)) {
+        cell = cache;
+        if constexpr (kCount) ++counters->raycls.cache_hits;
+    } else {
+        cell = plan.cells->find<kCount>(p, code, counters);
+        if (!cell) {
+            const KdTree::Impl& tree = detail::Access::impl(impl.tree);
+            return kdtree::traverse_ray<kOcclusion, kCount>(tree, ray, counters);
+        }
+        if (impl.settings.cache) cache = cell;
+    }
+    const int k = raycls::face_axis(code.face);
+    const float s = float(raycls::face_sign(code.face));
+    const float step = std::fabs(r.dir[k]);
+    if constexpr (kOcclusion) {
+        float stop;
+        if (plan.frame == Frame::from_end)
+            stop = raycls::key_stop(s * r.org[k], -r.tnear, step);  // the segment's start, seen from the light
+        else
+            stop = raycls::key_stop(s * r.org[k], r.tfar, step);
+        if (raycls::any_candidate<kCount>(*impl.kernels, cell->list, ray, stop, counters)) {
+            Hit h;
+            h.triangle = 0;  // any id: only hit() is read
+            return h;
+        }
+        return none;
+    } else {
+        return raycls::closest_candidate<kCount>(*impl.kernels, cell->list, ray, s * r.org[k], step, counters);
+    }
+}
+
+template <bool kOcclusion, class Out>
+void trace_span(const Impl& impl, std::span<const Ray> rays, const QueryOptions& options, Out&& out) {
+    impl.start_call();
+    std::shared_lock<std::shared_mutex> use(impl.use_mutex);
+    const CallPlan plan = plan_call(impl, rays, kOcclusion);
+    run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
+        const raycls::Cell* cache = nullptr;
+        if (c) {
+            for (std::size_t i = b; i < e; ++i) out(i, trace_one<kOcclusion, true>(impl, plan, rays[i], cache, c));
+        } else {
+            for (std::size_t i = b; i < e; ++i)
+                out(i, trace_one<kOcclusion, false>(impl, plan, rays[i], cache, nullptr));
+        }
+    });
+}
+
+// The lanes of packets as rays (inactive lanes: rays that describe no segment).
+std::vector<Ray> packet_rays(std::span<const Packet16> packets) {
+    std::vector<Ray> rays(packets.size() * 16);
+    for (std::size_t p = 0; p < packets.size(); ++p)
+        for (int i = 0; i < 16; ++i)
+            rays[p * 16 + std::size_t(i)] =
+                ((packets[p].active >> i) & 1u) ? packets[p].ray(i) : Ray{{0, 0, 0}, 0.0f, {0, 0, 0}, 0.0f};
+    return rays;
+}
+
+}  // namespace
+
+RayClassification::RayClassification(const Scene& scene, const RayClsSettings& settings, const KdBuildRules& rules)
+    : RayClassification(KdTree::build(scene, rules), settings) {}
+
+RayClassification::RayClassification(const KdTree& tree, const RayClsSettings& settings)
+    : impl_(std::make_shared<Impl>(tree, settings)) {}
+
+Hit RayClassification::intersect(const Ray& ray) const {
+    impl_->start_call();
+    std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
+    const raycls::Cell* cache = nullptr;
+    return trace_one<false, false>(*impl_, CallPlan{Frame::space, impl_->space.get()}, ray, cache, nullptr);
+}
+
+bool RayClassification::occluded(const Ray& ray) const {
+    impl_->start_call();
+    std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
+    const raycls::Cell* cache = nullptr;
+    return trace_one<true, false>(*impl_, CallPlan{Frame::space, impl_->space.get()}, ray, cache, nullptr).hit();
+}
+
+void RayClassification::intersect(std::span<const Ray> rays, std::span<Hit> hits, const QueryOptions& options) const {
+    check_query("RayClassification::intersect", rays.size(), hits.size(), options);
+    trace_span<false>(*impl_, rays, options, [&](std::size_t i, const Hit& h) { hits[i] = h; });
+}
+
+void RayClassification::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded,
+                                 const QueryOptions& options) const {
+    check_query("RayClassification::occluded", rays.size(), occluded.size(), options);
+    trace_span<true>(*impl_, rays, options, [&](std::size_t i, const Hit& h) { occluded[i] = h.hit() ? 1 : 0; });
+}
+
+void RayClassification::intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits,
+                                  const QueryOptions& options) const {
+    check_query("RayClassification::intersect", packets.size(), hits.size(), options);
+    const std::vector<Ray> rays = packet_rays(packets);
+    trace_span<false>(*impl_, rays, options, [&](std::size_t i, const Hit& h) { hits[i / 16].set_hit(int(i % 16), h); });
+}
+
+void RayClassification::occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded,
+                                 const QueryOptions& options) const {
+    check_query("RayClassification::occluded", packets.size(), occluded.size(), options);
+    std::vector<std::uint8_t> any(packets.size() * 16);
+    const std::vector<Ray> rays = packet_rays(packets);
+    trace_span<true>(*impl_, rays, options, [&](std::size_t i, const Hit& h) { any[i] = h.hit() ? 1 : 0; });
+    for (std::size_t p = 0; p < packets.size(); ++p) {
+        std::uint32_t bits = 0;
+        for (int i = 0; i < 16; ++i) bits |= std::uint32_t(any[p * 16 + std::size_t(i)]) << i;
+        occluded[p] = bits;
+    }
+}
+
+void RayClassification::clear() const {
+    std::unique_lock<std::shared_mutex> alone(impl_->use_mutex);
+    std::lock_guard<std::mutex> lock(impl_->buffers_mutex);
+    impl_->buffers.clear();
+    raycls::prune(impl_->context, {impl_->space.get()}, 0);
+    impl_->context.cells_created = 0;
+    impl_->context.cells_freed = 0;
+    impl_->context.build_ns = 0;
+    impl_->context.max_depth_reached = 0;
+    impl_->context.peak_bytes = impl_->context.bytes.load();
+}
+
+const Scene& RayClassification::scene() const { return impl_->tree.scene(); }
+const KdTree& RayClassification::kd_tree() const { return impl_->tree; }
+const RayClsSettings& RayClassification::settings() const { return impl_->settings; }
+
+RayClsStats RayClassification::stats() const {
+    const raycls::CellContext& c = impl_->context;
+    RayClsStats s;
+    s.cells_created = c.cells_created.load();
+    s.cells_freed = c.cells_freed.load();
+    s.candidate_entries = c.entries.load();
+    {
+        std::lock_guard<std::mutex> lock(impl_->buffers_mutex);
+        s.light_buffers = impl_->buffers.size();
+    }
+    s.memory_bytes = c.bytes.load();
+    s.memory_peak_bytes = c.peak_bytes.load();
+    s.lazy_build_seconds = double(c.build_ns.load()) * 1e-9;
+    s.max_depth_reached = c.max_depth_reached.load();
+    return s;
+}
+
+}  // namespace beamtrace
