@@ -40,6 +40,11 @@ struct RayClsSettings {
     int light_buffer_max_depth = 0;
     // A cell with at most this many candidates is not subdivided (the thesis's m = 6).
     int min_candidates = 6;
+    // A cell of the 5D tree is made once this many rays have reached its place; the rays before
+    // are traced by the kd-tree (exact, the same tie rule). Not in the thesis: on scenes of many
+    // triangles a 5D cell costs far more to make than a ray saves, so only cells that enough rays
+    // share are made (docs/raycls.md). Light buffers make every cell a ray reaches (1).
+    int rays_per_new_cell = 16;
     // Remember the last cell per thread (the thesis's cache) and try it first.
     bool cache = true;
     // Collapse the origin dimensions of calls whose rays share an end point or a start point.

@@ -20,7 +20,7 @@ struct StackEntry {
 
 }  // namespace
 
-template <bool kOcclusion, bool kCount>
+template <bool kOcclusion, bool kCount, bool kSmallestId>
 Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counters) {
     Hit best;
     if constexpr (kCount) ++counters->rays;
@@ -90,7 +90,10 @@ Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counte
                 } else {
                     for (std::uint32_t m = lanes.mask; m; m &= m - 1) {
                         const int i = __builtin_ctz(m);
-                        if (lanes.t[i] < best.t) {
+                        const bool nearer =
+                            lanes.t[i] < best.t ||
+                            (kSmallestId && lanes.t[i] == best.t && leaf[j + std::uint32_t(i)] < best.triangle);
+                        if (nearer) {
                             best = Hit{lanes.t[i], leaf[j + std::uint32_t(i)], lanes.u[i], lanes.v[i]};
                             wray.tfar = lanes.t[i];
                         }
@@ -118,5 +121,7 @@ template Hit traverse_ray<false, false>(const KdTree::Impl&, const Ray&, QueryCo
 template Hit traverse_ray<false, true>(const KdTree::Impl&, const Ray&, QueryCounters*);
 template Hit traverse_ray<true, false>(const KdTree::Impl&, const Ray&, QueryCounters*);
 template Hit traverse_ray<true, true>(const KdTree::Impl&, const Ray&, QueryCounters*);
+template Hit traverse_ray<false, false, true>(const KdTree::Impl&, const Ray&, QueryCounters*);
+template Hit traverse_ray<false, true, true>(const KdTree::Impl&, const Ray&, QueryCounters*);
 
 }  // namespace beamtrace::kdtree

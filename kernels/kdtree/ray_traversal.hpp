@@ -38,8 +38,9 @@ inline bool clip_to_box(const Ray& ray, const Float3& inv, const Box& box, float
 }
 
 // Closest hit (or, with kOcclusion, any hit: Hit::hit() tells) of the ray in the tree; with kCount,
-// counters->rays, inner_steps, leaves and triangle_tests grow.
-template <bool kOcclusion, bool kCount>
+// counters->rays, inner_steps, leaves and triangle_tests grow. Hits at equal t: the first found, or
+// with kSmallestId the smaller triangle id (brute force's rule, which ray classification answers by).
+template <bool kOcclusion, bool kCount, bool kSmallestId = false>
 Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counters);
 
 inline Hit intersect_one(const KdTree::Impl& tree, const Ray& ray) {

@@ -2,8 +2,10 @@
 #include "raycls/candidate_list.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
-#include <numeric>
+
+#include "common/radix_sort.hpp"
 
 namespace beamtrace::raycls {
 
@@ -13,9 +15,40 @@ float candidate_key(const Triangle& tri, int face) {
     return -std::max(std::max(tri.v0[k], tri.v1[k]), tri.v2[k]);
 }
 
-CandidateList candidates_from_tree(const KdTree::Impl& tree, const CellBeam& beam, int face,
-                                   std::vector<std::uint32_t>& scratch) {
-    scratch.clear();
+namespace {
+
+// The calling thread's buffers: the triangles found, and a stamp per triangle of the scene (the
+// number of the search that last found it), so a triangle in several leaves is kept once.
+struct TreeScratch {
+    std::vector<std::uint32_t> found;
+    std::vector<std::uint32_t> stamp;
+    std::uint32_t search = 0;
+    const KdTree::Impl* tree = nullptr;
+
+    void start(const KdTree::Impl& t) {
+        found.clear();
+        if (tree != &t || stamp.size() != t.scene.triangle_count() || search == ~0u) {
+            stamp.assign(t.scene.triangle_count(), 0);
+            search = 0;
+            tree = &t;
+        }
+        ++search;
+    }
+};
+
+thread_local TreeScratch t_scratch;
+
+// Keys as unsigned integers in the floats' order.
+inline std::uint32_t ordered_bits(float x) {
+    const std::uint32_t b = std::bit_cast<std::uint32_t>(x);
+    return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
+}
+
+}  // namespace
+
+CandidateList candidates_from_tree(const KdTree::Impl& tree, const CellBeam& beam, int face) {
+    TreeScratch& scratch = t_scratch;
+    scratch.start(tree);
     struct Entry {
         std::uint32_t node;
         Box box;
@@ -28,7 +61,13 @@ CandidateList candidates_from_tree(const KdTree::Impl& tree, const CellBeam& bea
         const KdNode& node = tree.nodes[e.node];
         if (node.is_leaf()) {
             const std::uint32_t* ids = tree.triangle_ids.data() + node.offset();
-            scratch.insert(scratch.end(), ids, ids + node.triangle_count());
+            for (std::uint32_t j = 0; j < node.triangle_count(); ++j) {
+                const std::uint32_t id = ids[j];
+                if (scratch.stamp[id] == scratch.search) continue;
+                scratch.stamp[id] = scratch.search;
+                if (!tree.scene.is_degenerate(id) && may_meet_triangle(beam, tree.scene.triangle(id)))
+                    scratch.found.push_back(id);
+            }
             continue;
         }
         const int axis = node.axis();
@@ -38,48 +77,32 @@ CandidateList candidates_from_tree(const KdTree::Impl& tree, const CellBeam& bea
         if (may_meet_box(beam, upper)) stack[top++] = Entry{node.upper_child(), upper};
         if (may_meet_box(beam, lower)) stack[top++] = Entry{e.node + 1, lower};
     }
-    std::sort(scratch.begin(), scratch.end());
-    scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
-
-    struct Keyed {
-        float key;
-        std::uint32_t id;
-    };
-    std::vector<Keyed> kept;
-    kept.reserve(scratch.size());
-    for (std::uint32_t id : scratch) {
-        if (tree.scene.is_degenerate(id)) continue;
-        const Triangle& tri = tree.scene.triangle(id);
-        if (may_meet_triangle(beam, tri)) kept.push_back(Keyed{candidate_key(tri, face), id});
+    // Sorted by key, then id: 64-bit words (key's bits in order above the id).
+    std::vector<std::uint64_t> words(scratch.found.size()), spare;
+    for (std::size_t i = 0; i < words.size(); ++i) {
+        const std::uint32_t id = scratch.found[i];
+        words[i] = (std::uint64_t(ordered_bits(candidate_key(tree.scene.triangle(id), face))) << 32) | id;
     }
-    std::sort(kept.begin(), kept.end(),
-              [](const Keyed& x, const Keyed& y) { return x.key < y.key || (x.key == y.key && x.id < y.id); });
+    if (words.size() > 2048)
+        radix_sort(words, spare, 64, [](std::uint64_t w) { return w; }, 1);
+    else
+        std::sort(words.begin(), words.end());
     CandidateList list;
-    list.key.reserve(kept.size());
-    list.id.reserve(kept.size());
-    list.corners.reserve(kept.size());
-    for (const Keyed& k : kept) {
-        list.key.push_back(k.key);
-        list.id.push_back(k.id);
-        list.corners.push_back(tree.scene.triangle(k.id));
+    list.items.resize(words.size());
+    for (std::size_t i = 0; i < words.size(); ++i) {
+        const std::uint32_t id = std::uint32_t(words[i]);
+        const Triangle& tri = tree.scene.triangle(id);
+        list.items[i] = Candidate{tri, candidate_key(tri, face), id};
     }
     return list;
 }
 
 CandidateList candidates_from_parent(const CandidateList& parent, const CellBeam& beam) {
     CandidateList list;
-    std::vector<std::uint32_t> keep;
-    keep.reserve(parent.size());
-    for (std::uint32_t i = 0; i < parent.size(); ++i)
-        if (may_meet_triangle(beam, parent.corners[i])) keep.push_back(i);
-    list.key.reserve(keep.size());
-    list.id.reserve(keep.size());
-    list.corners.reserve(keep.size());
-    for (std::uint32_t i : keep) {
-        list.key.push_back(parent.key[i]);
-        list.id.push_back(parent.id[i]);
-        list.corners.push_back(parent.corners[i]);
-    }
+    list.items.reserve(parent.size() / 2 + 8);
+    for (const Candidate& c : parent.items)
+        if (may_meet_triangle(beam, c.corners)) list.items.push_back(c);
+    list.items.shrink_to_fit();
     return list;
 }
 
@@ -90,7 +113,7 @@ void add_direction_rects(CandidateList& list, const Box& apex, int face, double 
     const double s1 = s > 0 ? double(apex.upper[k]) : -double(apex.lower[k]);  // max of s o_k
     list.rect.resize(list.size());
     for (std::size_t i = 0; i < list.size(); ++i) {
-        const Triangle& t = list.corners[i];
+        const Triangle& t = list.items[i].corners;
         const Float3* v[3] = {&t.v0, &t.v1, &t.v2};
         double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
         bool in_front = true;
@@ -125,22 +148,17 @@ void add_direction_rects(CandidateList& list, const Box& apex, int face, double 
 
 CandidateList candidates_in_rect(const CandidateList& parent, const CellBounds& cell) {
     CandidateList list;
-    std::vector<std::uint32_t> keep;
-    keep.reserve(parent.size());
-    for (std::uint32_t i = 0; i < parent.size(); ++i) {
+    list.items.reserve(parent.size() / 2 + 8);
+    list.rect.reserve(parent.size() / 2 + 8);
+    for (std::size_t i = 0; i < parent.size(); ++i) {
         const DirectionRect& r = parent.rect[i];
-        if (r.u0 <= cell.u1 && r.u1 >= cell.u0 && r.v0 <= cell.v1 && r.v1 >= cell.v0) keep.push_back(i);
+        if (r.u0 <= cell.u1 && r.u1 >= cell.u0 && r.v0 <= cell.v1 && r.v1 >= cell.v0) {
+            list.items.push_back(parent.items[i]);
+            list.rect.push_back(r);
+        }
     }
-    list.key.reserve(keep.size());
-    list.id.reserve(keep.size());
-    list.corners.reserve(keep.size());
-    list.rect.reserve(keep.size());
-    for (std::uint32_t i : keep) {
-        list.key.push_back(parent.key[i]);
-        list.id.push_back(parent.id[i]);
-        list.corners.push_back(parent.corners[i]);
-        list.rect.push_back(parent.rect[i]);
-    }
+    list.items.shrink_to_fit();
+    list.rect.shrink_to_fit();
     return list;
 }
 

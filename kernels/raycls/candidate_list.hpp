@@ -18,16 +18,20 @@ struct DirectionRect {
     float u0, u1, v0, v1;
 };
 
+// One candidate: 44 bytes, read front to back by a ray's tests.
+struct Candidate {
+    Triangle corners;
+    float key;
+    std::uint32_t id;
+};
+
 struct CandidateList {
-    std::vector<float> key;
-    std::vector<std::uint32_t> id;
-    std::vector<Triangle> corners;
+    std::vector<Candidate> items;
     std::vector<DirectionRect> rect;  // light buffers only: per candidate, seen from the apex box
 
-    std::size_t size() const { return id.size(); }
+    std::size_t size() const { return items.size(); }
     std::size_t memory_bytes() const {
-        return key.capacity() * sizeof(float) + id.capacity() * sizeof(std::uint32_t) +
-               corners.capacity() * sizeof(Triangle) + rect.capacity() * sizeof(DirectionRect);
+        return items.capacity() * sizeof(Candidate) + rect.capacity() * sizeof(DirectionRect);
     }
 };
 
@@ -35,9 +39,8 @@ struct CandidateList {
 float candidate_key(const Triangle& tri, int face);
 
 // The non-degenerate triangles of the kd-tree's leaves that the beam may meet (the tree's nodes
-// culled by the beam first). scratch: the caller's reusable buffer.
-CandidateList candidates_from_tree(const KdTree::Impl& tree, const CellBeam& beam, int face,
-                                   std::vector<std::uint32_t>& scratch);
+// culled by the beam first; each triangle once, however many leaves hold it).
+CandidateList candidates_from_tree(const KdTree::Impl& tree, const CellBeam& beam, int face);
 
 // The parent's candidates the beam may meet, in the parent's order (the same face).
 CandidateList candidates_from_parent(const CandidateList& parent, const CellBeam& beam);

@@ -35,10 +35,10 @@ Hit closest_candidate(const TriangleKernels& kernels, const CandidateList& list,
     const std::uint32_t n = std::uint32_t(list.size());
     float stop = key_stop(key_origin, ray.tfar, step);
     for (std::uint32_t first = 0; first < n; first += 8) {
-        if (list.key[first] > stop) break;
+        if (list.items[first].key > stop) break;
         const int count = int(n - first < 8 ? n - first : 8);
         const Triangle* batch[8];
-        for (int j = 0; j < count; ++j) batch[j] = &list.corners[first + std::uint32_t(j)];
+        for (int j = 0; j < count; ++j) batch[j] = &list.items[first + std::uint32_t(j)].corners;
         LaneHits lanes;
         if (count <= 4)
             kernels.ray_x4(w, batch, count, lanes);
@@ -50,7 +50,7 @@ Hit closest_candidate(const TriangleKernels& kernels, const CandidateList& list,
         }
         for (std::uint32_t m = lanes.mask; m; m &= m - 1) {
             const int j = __builtin_ctz(m);
-            const std::uint32_t id = list.id[first + std::uint32_t(j)];
+            const std::uint32_t id = list.items[first + std::uint32_t(j)].id;
             if (lanes.t[j] < best.t || (lanes.t[j] == best.t && id < best.triangle)) {
                 best = Hit{lanes.t[j], id, lanes.u[j], lanes.v[j]};
                 w.tfar = best.t;
@@ -69,10 +69,10 @@ bool any_candidate(const TriangleKernels& kernels, const CandidateList& list, co
     const WatertightRay w = make_watertight_ray(ray);
     const std::uint32_t n = std::uint32_t(list.size());
     for (std::uint32_t first = 0; first < n; first += 8) {
-        if (list.key[first] > stop) break;
+        if (list.items[first].key > stop) break;
         const int count = int(n - first < 8 ? n - first : 8);
         const Triangle* batch[8];
-        for (int j = 0; j < count; ++j) batch[j] = &list.corners[first + std::uint32_t(j)];
+        for (int j = 0; j < count; ++j) batch[j] = &list.items[first + std::uint32_t(j)].corners;
         LaneHits lanes;
         if (count <= 4)
             kernels.ray_x4(w, batch, count, lanes);

@@ -12,8 +12,6 @@ namespace {
 // whose culling of whole subtrees costs less than testing every one of the parent's triangles.
 constexpr std::size_t kLargestFilteredList = 16384;
 
-thread_local std::vector<std::uint32_t> t_scratch;
-
 }  // namespace
 
 void CellContext::add_bytes(std::size_t b) {
@@ -23,8 +21,24 @@ void CellContext::add_bytes(std::size_t b) {
     }
 }
 
-CellTree::CellTree(CellContext& context, const Box& origins, bool split_origins, int max_depth)
-    : context_(context), origins_(origins), split_origins_(split_origins), max_depth_(max_depth) {
+void CellTree::add_slots(Cell& c) const {
+    const std::size_t n = std::size_t(slots());
+    c.children = std::make_unique<std::atomic<Cell*>[]>(n);
+    for (std::size_t i = 0; i < n; ++i) c.children[i].store(nullptr, std::memory_order_relaxed);
+    if (rays_per_new_cell_ > 1) {
+        c.requests = std::make_unique<std::atomic<std::uint32_t>[]>(n);
+        for (std::size_t i = 0; i < n; ++i) c.requests[i].store(0, std::memory_order_relaxed);
+    }
+}
+
+CellTree::CellTree(CellContext& context, const Box& origins, bool split_origins, int max_depth, int first_list_depth,
+                   int rays_per_new_cell)
+    : context_(context),
+      origins_(origins),
+      split_origins_(split_origins),
+      max_depth_(max_depth),
+      first_list_depth_(std::clamp(first_list_depth, 1, max_depth)),
+      rays_per_new_cell_(std::uint32_t(std::max(1, rays_per_new_cell))) {
     for (int f = 0; f < 6; ++f) {
         auto root = std::make_unique<Cell>();
         for (int k = 0; k < 3; ++k) {
@@ -32,9 +46,8 @@ CellTree::CellTree(CellContext& context, const Box& origins, bool split_origins,
             root->bounds.hi[k] = origins.upper[k];
         }
         root->bounds.face = f;
-        root->whole_scene = split_origins;  // a light buffer's face list is made on first use
-        root->children = std::make_unique<std::atomic<Cell*>[]>(std::size_t(slots()));
-        for (int i = 0; i < slots(); ++i) root->children[std::size_t(i)].store(nullptr, std::memory_order_relaxed);
+        root->whole_scene = true;
+        add_slots(*root);
         context_.add_bytes(root->memory_bytes(slots()));
         roots_[f] = std::move(root);
     }
@@ -44,7 +57,6 @@ CellTree::~CellTree() {
     for (auto& root : roots_) {
         for (int i = 0; i < slots(); ++i) free_subtree(root->children[std::size_t(i)]);
         context_.remove_bytes(root->memory_bytes(slots()));
-        context_.entries.fetch_sub(root->list.size(), std::memory_order_relaxed);
     }
 }
 
@@ -53,18 +65,20 @@ Cell* CellTree::make_child(const Cell& parent, int index) const {
     auto c = std::make_unique<Cell>();
     c->bounds = child_bounds(parent.bounds, index, split_origins_);
     c->depth = parent.depth + 1;
-    const CellBeam beam = make_cell_beam(c->bounds, context_.origin_margin, context_.direction_margin);
-    if (!split_origins_)
+    if (c->depth < first_list_depth_) {
+        c->whole_scene = true;
+    } else if (parent.whole_scene || (split_origins_ && parent.list.size() > kLargestFilteredList)) {
+        const CellBeam beam = make_cell_beam(c->bounds, context_.origin_margin, context_.direction_margin);
+        c->list = candidates_from_tree(*context_.tree, beam, c->bounds.face);
+        if (!split_origins_) add_direction_rects(c->list, origins_, c->bounds.face, context_.direction_margin);
+    } else if (!split_origins_) {
         c->list = candidates_in_rect(parent.list, c->bounds);
-    else if (parent.whole_scene || parent.list.size() > kLargestFilteredList)
-        c->list = candidates_from_tree(*context_.tree, beam, c->bounds.face, t_scratch);
-    else
+    } else {
+        const CellBeam beam = make_cell_beam(c->bounds, context_.origin_margin, context_.direction_margin);
         c->list = candidates_from_parent(parent.list, beam);
-    c->final = c->list.size() <= std::size_t(context_.min_candidates) || c->depth >= max_depth_;
-    if (!c->final) {
-        c->children = std::make_unique<std::atomic<Cell*>[]>(std::size_t(slots()));
-        for (int i = 0; i < slots(); ++i) c->children[std::size_t(i)].store(nullptr, std::memory_order_relaxed);
     }
+    c->final = !c->whole_scene && (c->list.size() <= std::size_t(context_.min_candidates) || c->depth >= max_depth_);
+    if (!c->final) add_slots(*c);
     context_.add_bytes(c->memory_bytes(slots()));
     context_.entries.fetch_add(c->list.size(), std::memory_order_relaxed);
     context_.cells_created.fetch_add(1, std::memory_order_relaxed);
@@ -77,24 +91,14 @@ Cell* CellTree::make_child(const Cell& parent, int index) const {
     return c.release();
 }
 
-void CellTree::make_root_list(Cell& root) const {
-    const auto start = std::chrono::steady_clock::now();
-    const CellBeam beam = make_cell_beam(root.bounds, context_.origin_margin, context_.direction_margin);
-    root.list = candidates_from_tree(*context_.tree, beam, root.bounds.face, t_scratch);
-    add_direction_rects(root.list, origins_, root.bounds.face, context_.direction_margin);
-    context_.add_bytes(root.list.memory_bytes());
-    context_.entries.fetch_add(root.list.size(), std::memory_order_relaxed);
-    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start);
-    context_.build_ns.fetch_add(std::uint64_t(ns.count()), std::memory_order_relaxed);
-}
-
 Cell* CellTree::child(Cell& parent, int index) const {
     std::atomic<Cell*>& slot = parent.children[std::size_t(index)];
     Cell* c = slot.load(std::memory_order_acquire);
     if (c) return c;
+    if (rays_per_new_cell_ > 1 &&
+        parent.requests[std::size_t(index)].fetch_add(1, std::memory_order_relaxed) + 1 < rays_per_new_cell_)
+        return nullptr;
     if (!context_.may_grow()) return nullptr;
-    if (!split_origins_ && parent.depth == 0)
-        std::call_once(root_once_[parent.bounds.face], [&] { make_root_list(parent); });
     Cell* made = make_child(parent, index);
     Cell* expected = nullptr;
     if (slot.compare_exchange_strong(expected, made, std::memory_order_acq_rel, std::memory_order_acquire))

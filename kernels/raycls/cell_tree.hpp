@@ -8,7 +8,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <mutex>
 #include <vector>
 
 #include "beamtrace/query.hpp"
@@ -39,27 +38,33 @@ struct CellContext {
 struct Cell {
     CellBounds bounds;
     CandidateList list;
-    bool whole_scene = false;  // a root: its list is not made (children come from the kd-tree)
+    bool whole_scene = false;  // no list (a root, or above the first level with lists): rays pass through
     bool final = false;        // rays use the list; no children
     int depth = 0;
     std::unique_ptr<std::atomic<Cell*>[]> children;  // 4 or 32 slots unless final
+    std::unique_ptr<std::atomic<std::uint32_t>[]> requests;  // rays that reached each missing child
     std::atomic<std::uint64_t> last_used{0};         // the context's epoch of the last ray here
 
     std::size_t memory_bytes(int slots) const {
-        return sizeof(Cell) + list.memory_bytes() + (final ? 0 : std::size_t(slots) * sizeof(void*));
+        return sizeof(Cell) + list.memory_bytes() +
+               (final ? 0 : std::size_t(slots) * (sizeof(void*) + (requests ? sizeof(std::uint32_t) : 0)));
     }
 };
 
 class CellTree {
 public:
-    // split_origins: the 5D tree (32 children); false: a light buffer (4).
-    CellTree(CellContext& context, const Box& origins, bool split_origins, int max_depth);
+    // split_origins: the 5D tree (32 children); false: a light buffer (4). Cells above first_list_depth
+    // hold no list (rays pass through them); those at it get theirs from the kd-tree. A cell is made
+    // when the rays_per_new_cell-th ray reaches its place (find() returns nullptr for the ones before).
+    CellTree(CellContext& context, const Box& origins, bool split_origins, int max_depth, int first_list_depth,
+             int rays_per_new_cell);
     ~CellTree();
     CellTree(const CellTree&) = delete;
     CellTree& operator=(const CellTree&) = delete;
 
     // The final cell of the point p (inside origins(), or anywhere for a light buffer) and direction;
-    // nullptr when a cell on the way would have to be made and the memory budget is exhausted.
+    // nullptr when a cell on the way is not made yet: too few rays have reached it, or the memory
+    // budget is exhausted.
     template <bool kCount>
     const Cell* find(const float p[3], const DirectionCode& d, QueryCounters* counters) const;
 
@@ -74,18 +79,17 @@ public:
 
 private:
     Cell* child(Cell& parent, int index) const;
-    // A light buffer's face list (every candidate of the face, with its direction rectangle), made
-    // the first time a child of that face is.
-    void make_root_list(Cell& root) const;
     Cell* make_child(const Cell& parent, int index) const;
+    void add_slots(Cell& c) const;
     void delete_cell(Cell* c) const;
 
     CellContext& context_;
     Box origins_;
     bool split_origins_;
     int max_depth_;
+    int first_list_depth_;
+    std::uint32_t rays_per_new_cell_;
     std::unique_ptr<Cell> roots_[6];
-    mutable std::once_flag root_once_[6];
 };
 
 struct PruneEntry {

@@ -30,6 +30,9 @@ void RayClsSettings::validate() const {
                     std::to_string(light_buffer_max_depth));
     if (min_candidates < 0)
         throw Error("ray classification: min_candidates must be at least 0, not " + std::to_string(min_candidates));
+    if (rays_per_new_cell < 1)
+        throw Error("ray classification: rays_per_new_cell must be at least 1, not " +
+                    std::to_string(rays_per_new_cell));
 }
 
 namespace {
@@ -48,6 +51,7 @@ struct RayClassification::Impl {
     RayClsSettings settings;
     const TriangleKernels* kernels = nullptr;
     int space_depth = 5, light_depth = 8;
+    int light_first_list_depth = 1;  // light buffers' cells above it hold no list (docs/raycls.md)
     float scene_scale = 1.0f;     // largest coordinate magnitude of the tree's box
     float shared_point_size = 0;  // largest box of shared points (light buffers' apex)
     mutable raycls::CellContext context;
@@ -64,6 +68,8 @@ struct RayClassification::Impl {
         space_depth = settings.max_depth ? settings.max_depth : std::clamp((log2_ceil(double(n)) + 2) / 3, 5, 8);
         light_depth = settings.light_buffer_max_depth ? settings.light_buffer_max_depth
                                                       : std::clamp(log2_ceil(double(n) / 6.0) / 2, 6, 12);
+        // Lists start where a cell holds about 4,096 candidates (a face's quarter holds a 24th of the scene).
+        light_first_list_depth = std::clamp(int(std::lround(std::log2(double(n) / 24576.0) / 2.0)), 1, light_depth);
         const Box& b = ti.bounds;
         for (int k = 0; k < 3; ++k)
             scene_scale = std::max(scene_scale, std::max(std::fabs(b.lower[k]), std::fabs(b.upper[k])));
@@ -75,7 +81,7 @@ struct RayClassification::Impl {
         // of the direction codes (one division, |u| <= 1): both far below the margins.
         context.origin_margin = double(scene_scale) * 1e-5;
         context.direction_margin = 1e-6;
-        space = std::make_unique<CellTree>(context, b, true, space_depth);
+        space = std::make_unique<CellTree>(context, b, true, space_depth, 1, settings.rays_per_new_cell);
     }
 
     // Frees cells while no call runs: down to half the budget when over it.
@@ -104,7 +110,7 @@ struct RayClassification::Impl {
         const float grow = shared_point_size * 0.25f;
         apex.lower = apex.lower - Float3{grow, grow, grow};
         apex.upper = apex.upper + Float3{grow, grow, grow};
-        buffers.push_back(std::make_unique<CellTree>(context, apex, false, light_depth));
+        buffers.push_back(std::make_unique<CellTree>(context, apex, false, light_depth, light_first_list_depth, 1));
         return buffers.back().get();
     }
 };
@@ -190,7 +196,7 @@ Hit trace_one(const Impl& impl, const CallPlan& plan, const Ray& r, const raycls
         cell = plan.cells->find<kCount>(p, code, counters);
         if (!cell) {
             const KdTree::Impl& tree = detail::Access::impl(impl.tree);
-            return kdtree::traverse_ray<kOcclusion, kCount>(tree, ray, counters);
+            return kdtree::traverse_ray<kOcclusion, kCount, !kOcclusion>(tree, ray, counters);
         }
         if (impl.settings.cache) cache = cell;
     }

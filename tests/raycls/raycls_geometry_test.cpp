@@ -107,9 +107,7 @@ TEST(DirectionRects, HoldTheDirectionOfEveryRayFromTheApexThatHits) {
         const DirectionCode code = direction_code(r.dir);
         if (code.face != c.face) continue;
         CandidateList list;
-        list.key.push_back(0.0f);
-        list.id.push_back(0);
-        list.corners.push_back(triangle_around(r, t(rng), rng));
+        list.items.push_back(Candidate{triangle_around(r, t(rng), rng), 0.0f, 0});
         add_direction_rects(list, apex, c.face, 1e-6);
         const DirectionRect& rect = list.rect[0];
         ASSERT_LE(rect.u0, code.u) << i;

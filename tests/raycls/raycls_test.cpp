@@ -10,13 +10,25 @@
 #include "beamtrace/error.hpp"
 #include "beamtrace/kdtree.hpp"
 #include "beamtrace/ray_classification.hpp"
+#include "common/triangle_reference.hpp"
 #include "test_scenes.hpp"
 
 using namespace beamtrace;
 
 namespace {
 
-void expect_same_hit(const Hit& got, const Hit& want, std::size_t i, const char* what) {
+// Bit for bit; with `tie` (answers of the kd-tree fallback, which may end in the cell before an
+// exact tie's other triangle when the hit lies on a split plane at t = 0 within rounding): the same t,
+// and the triangle given is hit there too.
+void expect_same_hit(const Hit& got, const Hit& want, std::size_t i, const char* what, const Scene* tie = nullptr,
+                     const Ray* ray = nullptr) {
+    if (tie && got.triangle != want.triangle && got.hit() && want.hit()) {
+        ASSERT_EQ(got.t, want.t) << what << " ray " << i;
+        TriangleHit h;
+        ASSERT_TRUE(intersect_triangle(make_watertight_ray(*ray), tie->triangle(got.triangle), h) && h.t == got.t)
+            << what << " ray " << i;
+        return;
+    }
     ASSERT_EQ(got.triangle, want.triangle) << what << " ray " << i;
     if (!want.hit()) return;
     ASSERT_EQ(got.t, want.t) << what << " ray " << i;
@@ -27,6 +39,8 @@ void expect_same_hit(const Hit& got, const Hit& want, std::size_t i, const char*
 // Span, single-ray and packet answers, closest hit and occlusion, against brute force.
 void check_all(const RayClassification& rc, const Scene& scene, const std::vector<Ray>& rays, const char* what,
                int threads = 1, QueryCounters* counters = nullptr) {
+    // Exact ties may differ only for rays the kd-tree answers (cells not made yet).
+    const Scene* tie = rc.settings().rays_per_new_cell > 1 ? &scene : nullptr;
     std::vector<Hit> hits(rays.size());
     std::vector<std::uint8_t> occ(rays.size());
     rc.intersect(rays, hits, QueryOptions{threads, counters});
@@ -35,10 +49,10 @@ void check_all(const RayClassification& rc, const Scene& scene, const std::vecto
     for (std::size_t i = 0; i < rays.size(); ++i) {
         const Hit want = intersect_brute_force(scene, rays[i]);
         hit_count += want.hit();
-        expect_same_hit(hits[i], want, i, what);
+        expect_same_hit(hits[i], want, i, what, tie, &rays[i]);
         ASSERT_EQ(occ[i] != 0, occluded_brute_force(scene, rays[i])) << what << " occlusion, ray " << i;
         if (i % 7 == 0) {
-            expect_same_hit(rc.intersect(rays[i]), want, i, what);
+            expect_same_hit(rc.intersect(rays[i]), want, i, what, tie, &rays[i]);
             ASSERT_EQ(rc.occluded(rays[i]), occ[i] != 0) << what << " single occlusion, ray " << i;
         }
     }
@@ -56,7 +70,7 @@ void check_all(const RayClassification& rc, const Scene& scene, const std::vecto
     for (std::size_t i = 0; i < rays.size(); ++i) {
         const bool active = i % 3 != 2;
         const Hit want = active ? hits[i] : Hit{};
-        expect_same_hit(ph[i / 16].hit(int(i % 16)), want, i, what);
+        expect_same_hit(ph[i / 16].hit(int(i % 16)), want, i, what, tie, &rays[i]);
         ASSERT_EQ(((po[i / 16] >> (i % 16)) & 1u) != 0, active && occ[i] != 0) << what << " packet lane " << i;
     }
 }
@@ -116,7 +130,9 @@ std::vector<Case> scenes() {
 
 TEST(RayClassification, SpaceTreeEqualsBruteForce) {
     for (const Case& c : scenes()) {
-        const RayClassification rc(c.scene);
+        RayClsSettings every_cell;
+        every_cell.rays_per_new_cell = 1;  // no ray left to the kd-tree: bit for bit, ties included
+        const RayClassification rc(c.scene, every_cell);
         std::vector<Ray> rays = test::random_rays(c.scene.bounds(), 3000, 11);
         const std::vector<Ray> axis = test::axis_rays(c.scene, 1500, 12);
         rays.insert(rays.end(), axis.begin(), axis.end());
@@ -127,6 +143,12 @@ TEST(RayClassification, SpaceTreeEqualsBruteForce) {
         EXPECT_GT(counters.raycls.rays, 0u);
         EXPECT_EQ(counters.raycls.light_buffer_rays, 0u) << "rays from everywhere share no point";
         EXPECT_GT(rc.stats().cells_created, 0u);
+        EXPECT_EQ(counters.rays, 0u) << "no ray traced by the kd-tree";
+        // The default: cells made once 16 rays reach them, the rays before by the kd-tree.
+        const RayClassification lazier(c.scene);
+        QueryCounters fallback;
+        check_all(lazier, c.scene, rays, c.name, 1, &fallback);
+        EXPECT_GT(fallback.rays, 0u);
     }
 }
 
@@ -186,6 +208,7 @@ TEST(RayClassification, SettingsDoNotChangeAnswers) {
             RayClsSettings s;
             s.max_depth = depth;
             s.cache = cache;
+            s.rays_per_new_cell = cache ? 1 : 16;
             s.light_buffers = depth != 2;
             s.min_candidates = depth == 8 ? 0 : 6;
             check_all(RayClassification(scene, s), scene, rays, "settings");
@@ -197,6 +220,7 @@ TEST(RayClassification, BudgetTooSmallFallsBackToTheTreeAndPrunes) {
     const Scene scene = test::random_soup(4000, 9);
     RayClsSettings s;
     s.memory_budget_bytes = 64 * 1024;  // a few cells
+    s.rays_per_new_cell = 1;
     const RayClassification rc(scene, s);
     const std::vector<Ray> rays = test::random_rays(scene.bounds(), 3000, 51);
     for (int call = 0; call < 3; ++call) {
@@ -257,12 +281,13 @@ TEST(RayClassification, RaysThatDescribeNoSegmentNeverHit) {
 
 TEST(RayClassification, BadInputIsRejectedWithAMessage) {
     const Scene scene = test::random_soup(100, 1);
-    for (int which = 0; which < 4; ++which) {
+    for (int which = 0; which < 5; ++which) {
         RayClsSettings s;
         if (which == 0) s.max_depth = -1;
         if (which == 1) s.max_depth = 13;
         if (which == 2) s.light_buffer_max_depth = 21;
         if (which == 3) s.min_candidates = -2;
+        if (which == 4) s.rays_per_new_cell = 0;
         EXPECT_THROW(s.validate(), Error);
         EXPECT_THROW(RayClassification(scene, s), Error);
     }

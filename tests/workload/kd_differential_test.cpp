@@ -1,4 +1,4 @@
-// kd1, kd16, mlrta and stream (and brute, where the scene is small) against the Embree oracle: every procedural scene and
+// kd1, kd16, mlrta, stream and raycls (and brute, where the scene is small) against the Embree oracle: every procedural scene and
 // the shared meshes, from outside and inside cameras, a camera grazing along the floor, a camera on
 // a split plane, random rays; primary, shadow, ao and diffuse rays, shadow rays to several lights and
 // to the area light, in input order and (from the scene's own camera) shuffled. Zero `mismatch` everywhere.
@@ -33,7 +33,7 @@ TEST_P(Differential, EnginesAgreeWithEmbree) {
     if (c.file && !std::filesystem::exists(path)) GTEST_SKIP() << "shared scene not found: " << path;
     scenes::SceneSource source = scenes::load_scene(path);
     std::vector<std::unique_ptr<Engine>> engines;
-    for (const char* name : {"kd1", "kd16", "mlrta", "stream"}) {
+    for (const char* name : {"kd1", "kd16", "mlrta", "stream", "raycls"}) {
         engines.push_back(make_engine(name));
         engines.back()->build(source.scene, EngineOptions{});
     }
