@@ -60,6 +60,7 @@ foreach(source
     mlrta/shadow_reversal.cpp
     raycls/cell_beam.cpp
     raycls/candidate_list.cpp
+    raycls/direction_grid.cpp
     raycls/cell_tree.cpp
     raycls/ray_classification.cpp
     mlrta/tile_tracer.cpp

@@ -35,8 +35,9 @@ struct Access;
 struct RayClsSettings {
     // Levels of the 5D tree (each halves all five axes: 32 children); the thesis's depth 5.
     int max_depth = 5;
-    // Levels of a light buffer (each halves the two direction axes: 4 children). 0: automatic, from
-    // the triangle count (log4 of triangles / 6, at least 6, at most 12).
+    // Levels of a light buffer (each halves the two direction axes: 4 children; the levels below its
+    // tiles are a tile's grid). 0: automatic, from the triangle count (log4 of triangles / 6, plus 2,
+    // at least 6, at most 14).
     int light_buffer_max_depth = 0;
     // A cell with at most this many candidates is not subdivided (the thesis's m = 6).
     int min_candidates = 6;

@@ -51,11 +51,15 @@ CandidateList candidates_from_tree(const KdTree::Impl& tree, const CellBeam& bea
     scratch.start(tree);
     struct Entry {
         std::uint32_t node;
+        bool inside;  // the node's box lies inside the beam: no test below it can drop anything
         Box box;
     };
     Entry stack[128];
     int top = 0;
-    if (!tree.nodes.empty() && may_meet_box(beam, tree.bounds)) stack[top++] = Entry{0, tree.bounds};
+    if (!tree.nodes.empty()) {
+        const BoxSide side = box_side(beam, tree.bounds);
+        if (side != BoxSide::outside) stack[top++] = Entry{0, side == BoxSide::inside, tree.bounds};
+    }
     while (top > 0) {
         const Entry e = stack[--top];
         const KdNode& node = tree.nodes[e.node];
@@ -65,17 +69,23 @@ CandidateList candidates_from_tree(const KdTree::Impl& tree, const CellBeam& bea
                 const std::uint32_t id = ids[j];
                 if (scratch.stamp[id] == scratch.search) continue;
                 scratch.stamp[id] = scratch.search;
-                if (!tree.scene.is_degenerate(id) && may_meet_triangle(beam, tree.scene.triangle(id)))
+                if (!tree.scene.is_degenerate(id) && (e.inside || may_meet_triangle(beam, tree.scene.triangle(id))))
                     scratch.found.push_back(id);
             }
+            continue;
+        }
+        if (e.inside) {
+            stack[top++] = Entry{node.upper_child(), true, e.box};
+            stack[top++] = Entry{e.node + 1, true, e.box};
             continue;
         }
         const int axis = node.axis();
         Box lower = e.box, upper = e.box;
         lower.upper[axis] = node.split;
         upper.lower[axis] = node.split;
-        if (may_meet_box(beam, upper)) stack[top++] = Entry{node.upper_child(), upper};
-        if (may_meet_box(beam, lower)) stack[top++] = Entry{e.node + 1, lower};
+        const BoxSide up = box_side(beam, upper), low = box_side(beam, lower);
+        if (up != BoxSide::outside) stack[top++] = Entry{node.upper_child(), up == BoxSide::inside, upper};
+        if (low != BoxSide::outside) stack[top++] = Entry{e.node + 1, low == BoxSide::inside, lower};
     }
     // Sorted by key, then id: 64-bit words (key's bits in order above the id).
     std::vector<std::uint64_t> words(scratch.found.size()), spare;
@@ -111,8 +121,8 @@ void add_direction_rects(CandidateList& list, const Box& apex, int face, double 
     const double s = face_sign(face);
     const double s0 = s > 0 ? double(apex.lower[k]) : -double(apex.upper[k]);  // min of s o_k
     const double s1 = s > 0 ? double(apex.upper[k]) : -double(apex.lower[k]);  // max of s o_k
-    list.rect.resize(list.size());
-    for (std::size_t i = 0; i < list.size(); ++i) {
+    list.rect_items.resize(list.items.size());
+    for (std::size_t i = 0; i < list.items.size(); ++i) {
         const Triangle& t = list.items[i].corners;
         const Float3* v[3] = {&t.v0, &t.v1, &t.v2};
         double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
@@ -133,33 +143,21 @@ void add_direction_rects(CandidateList& list, const Box& apex, int face, double 
                 hi[j] = std::max(hi[j], nmax >= 0 ? nmax / near : nmax / far);
             }
         }
-        DirectionRect& r = list.rect[i];
+        RectCandidate& r = list.rect_items[i];
+        r.key = list.items[i].key;
+        r.id = list.items[i].id;
         if (!in_front) {
-            r = DirectionRect{-2.0f, 2.0f, -2.0f, 2.0f};
+            r.rect = DirectionRect{-2.0f, 2.0f, -2.0f, 2.0f};
             continue;
         }
         // Rounded outwards to float, padded.
-        r.u0 = float(lo[0] - direction_margin - std::fabs(lo[0]) * 1e-6);
-        r.u1 = float(hi[0] + direction_margin + std::fabs(hi[0]) * 1e-6);
-        r.v0 = float(lo[1] - direction_margin - std::fabs(lo[1]) * 1e-6);
-        r.v1 = float(hi[1] + direction_margin + std::fabs(hi[1]) * 1e-6);
+        r.rect.u0 = float(lo[0] - direction_margin - std::fabs(lo[0]) * 1e-6);
+        r.rect.u1 = float(hi[0] + direction_margin + std::fabs(hi[0]) * 1e-6);
+        r.rect.v0 = float(lo[1] - direction_margin - std::fabs(lo[1]) * 1e-6);
+        r.rect.v1 = float(hi[1] + direction_margin + std::fabs(hi[1]) * 1e-6);
     }
-}
-
-CandidateList candidates_in_rect(const CandidateList& parent, const CellBounds& cell) {
-    CandidateList list;
-    list.items.reserve(parent.size() / 2 + 8);
-    list.rect.reserve(parent.size() / 2 + 8);
-    for (std::size_t i = 0; i < parent.size(); ++i) {
-        const DirectionRect& r = parent.rect[i];
-        if (r.u0 <= cell.u1 && r.u1 >= cell.u0 && r.v0 <= cell.v1 && r.v1 >= cell.v0) {
-            list.items.push_back(parent.items[i]);
-            list.rect.push_back(r);
-        }
-    }
+    list.items.clear();
     list.items.shrink_to_fit();
-    list.rect.shrink_to_fit();
-    return list;
 }
 
 }  // namespace beamtrace::raycls

@@ -25,13 +25,22 @@ struct Candidate {
     std::uint32_t id;
 };
 
+// A light buffer's candidate before its cell is final: what the filtering reads (24 bytes).
+struct RectCandidate {
+    DirectionRect rect;  // seen from the apex box
+    float key;
+    std::uint32_t id;
+};
+
+// Cells of the 5D tree hold items; a light buffer's tile holds rect_items until its grid is made
+// (direction_grid.hpp).
 struct CandidateList {
     std::vector<Candidate> items;
-    std::vector<DirectionRect> rect;  // light buffers only: per candidate, seen from the apex box
+    std::vector<RectCandidate> rect_items;
 
-    std::size_t size() const { return items.size(); }
+    std::size_t size() const { return items.size() + rect_items.size(); }
     std::size_t memory_bytes() const {
-        return items.capacity() * sizeof(Candidate) + rect.capacity() * sizeof(DirectionRect);
+        return items.capacity() * sizeof(Candidate) + rect_items.capacity() * sizeof(RectCandidate);
     }
 };
 
@@ -45,13 +54,9 @@ CandidateList candidates_from_tree(const KdTree::Impl& tree, const CellBeam& bea
 // The parent's candidates the beam may meet, in the parent's order (the same face).
 CandidateList candidates_from_parent(const CandidateList& parent, const CellBeam& beam);
 
-// Light buffers: the directions from the apex box to each candidate (the face's list of a cell that
-// covers the whole face, made by candidates_from_tree). A triangle not wholly in front of the box
-// gets the whole face (it cannot be bounded; only triangles next to the light are). direction_margin
-// pads every rectangle.
+// Light buffers: the items (made by candidates_from_tree) become rect_items, with the directions from
+// the apex box to each triangle. A triangle not wholly in front of the box gets the whole face (it
+// cannot be bounded; only triangles next to the light are). direction_margin pads every rectangle.
 void add_direction_rects(CandidateList& list, const Box& apex, int face, double direction_margin);
-
-// The parent's candidates whose rectangles meet the cell's (u, v) rectangle, in the parent's order.
-CandidateList candidates_in_rect(const CandidateList& parent, const CellBounds& cell);
 
 }  // namespace beamtrace::raycls

@@ -6,6 +6,7 @@
 // limit by a relative margin (docs/raycls.md).
 #include <cmath>
 #include <cstdint>
+#include <span>
 
 #include "beamtrace/query.hpp"
 #include "common/triangle_kernels.hpp"
@@ -28,17 +29,17 @@ inline float key_stop(float key_origin, float t, float step) {
 // Closest hit along the ray. key_origin: s * org_k (s the sign of the ray's face, k its axis), step:
 // |dir_k|; a hit at t lies at key key_origin + t * step.
 template <bool kCount>
-Hit closest_candidate(const TriangleKernels& kernels, const CandidateList& list, const Ray& ray, float key_origin,
-                      float step, QueryCounters* counters) {
+Hit closest_candidate(const TriangleKernels& kernels, std::span<const Candidate> list, const Ray& ray,
+                      float key_origin, float step, QueryCounters* counters) {
     Hit best;
     WatertightRay w = make_watertight_ray(ray);
     const std::uint32_t n = std::uint32_t(list.size());
     float stop = key_stop(key_origin, ray.tfar, step);
     for (std::uint32_t first = 0; first < n; first += 8) {
-        if (list.items[first].key > stop) break;
+        if (list[first].key > stop) break;
         const int count = int(n - first < 8 ? n - first : 8);
         const Triangle* batch[8];
-        for (int j = 0; j < count; ++j) batch[j] = &list.items[first + std::uint32_t(j)].corners;
+        for (int j = 0; j < count; ++j) batch[j] = &list[first + std::uint32_t(j)].corners;
         LaneHits lanes;
         if (count <= 4)
             kernels.ray_x4(w, batch, count, lanes);
@@ -50,7 +51,7 @@ Hit closest_candidate(const TriangleKernels& kernels, const CandidateList& list,
         }
         for (std::uint32_t m = lanes.mask; m; m &= m - 1) {
             const int j = __builtin_ctz(m);
-            const std::uint32_t id = list.items[first + std::uint32_t(j)].id;
+            const std::uint32_t id = list[first + std::uint32_t(j)].id;
             if (lanes.t[j] < best.t || (lanes.t[j] == best.t && id < best.triangle)) {
                 best = Hit{lanes.t[j], id, lanes.u[j], lanes.v[j]};
                 w.tfar = best.t;
@@ -64,15 +65,15 @@ Hit closest_candidate(const TriangleKernels& kernels, const CandidateList& list,
 // Any hit of the segment; candidates with keys beyond `stop` (the segment's far end seen from the
 // cell's origins, margin included: key_stop) are not tested.
 template <bool kCount>
-bool any_candidate(const TriangleKernels& kernels, const CandidateList& list, const Ray& ray, float stop,
+bool any_candidate(const TriangleKernels& kernels, std::span<const Candidate> list, const Ray& ray, float stop,
                    QueryCounters* counters) {
     const WatertightRay w = make_watertight_ray(ray);
     const std::uint32_t n = std::uint32_t(list.size());
     for (std::uint32_t first = 0; first < n; first += 8) {
-        if (list.items[first].key > stop) break;
+        if (list[first].key > stop) break;
         const int count = int(n - first < 8 ? n - first : 8);
         const Triangle* batch[8];
-        for (int j = 0; j < count; ++j) batch[j] = &list.items[first + std::uint32_t(j)].corners;
+        for (int j = 0; j < count; ++j) batch[j] = &list[first + std::uint32_t(j)].corners;
         LaneHits lanes;
         if (count <= 4)
             kernels.ray_x4(w, batch, count, lanes);

@@ -67,15 +67,20 @@ CellBeam make_cell_beam(const CellBounds& cell, double origin_margin, double dir
     return beam;
 }
 
-bool may_meet_box(const CellBeam& beam, const Box& box) {
+BoxSide box_side(const CellBeam& beam, const Box& box) {
+    bool inside = true;
     for (int i = 0; i < beam.count; ++i) {
         const HalfSpace& h = beam.planes[i];
-        // The corner farthest along n.
-        double best = 0.0;
-        for (int j = 0; j < 3; ++j) best += h.n[j] * (h.n[j] >= 0 ? double(box.upper[j]) : double(box.lower[j]));
-        if (best < h.c) return false;
+        double most = 0.0, least = 0.0;
+        for (int j = 0; j < 3; ++j) {
+            const double lo = h.n[j] * double(box.lower[j]), hi = h.n[j] * double(box.upper[j]);
+            most += lo > hi ? lo : hi;
+            least += lo < hi ? lo : hi;
+        }
+        if (most < h.c) return BoxSide::outside;
+        inside = inside && least >= h.c;
     }
-    return true;
+    return inside ? BoxSide::inside : BoxSide::partly;
 }
 
 bool may_meet_triangle(const CellBeam& beam, const Triangle& tri) {

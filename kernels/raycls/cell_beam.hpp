@@ -26,9 +26,11 @@ struct CellBeam {
 // origin_margin: added on each side of the origin box; direction_margin: on each side of (u, v).
 CellBeam make_cell_beam(const CellBounds& cell, double origin_margin, double direction_margin);
 
-// False only when some half-space has the whole box (or every corner of the triangle) strictly
-// outside it.
-bool may_meet_box(const CellBeam& beam, const Box& box);
+// False only when some half-space has every corner of the triangle strictly outside it.
 bool may_meet_triangle(const CellBeam& beam, const Triangle& tri);
+// Outside: some half-space has the whole box strictly outside it. Inside: the whole box lies in every
+// half-space (every triangle in it may meet the beam; no test of its parts can drop anything).
+enum class BoxSide { outside, partly, inside };
+BoxSide box_side(const CellBeam& beam, const Box& box);
 
 }  // namespace beamtrace::raycls

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 namespace beamtrace::raycls {
 
@@ -65,22 +66,32 @@ Cell* CellTree::make_child(const Cell& parent, int index) const {
     auto c = std::make_unique<Cell>();
     c->bounds = child_bounds(parent.bounds, index, split_origins_);
     c->depth = parent.depth + 1;
+    std::size_t entries = 0;
     if (c->depth < first_list_depth_) {
         c->whole_scene = true;
-    } else if (parent.whole_scene || (split_origins_ && parent.list.size() > kLargestFilteredList)) {
-        const CellBeam beam = make_cell_beam(c->bounds, context_.origin_margin, context_.direction_margin);
-        c->list = candidates_from_tree(*context_.tree, beam, c->bounds.face);
-        if (!split_origins_) add_direction_rects(c->list, origins_, c->bounds.face, context_.direction_margin);
     } else if (!split_origins_) {
-        c->list = candidates_in_rect(parent.list, c->bounds);
+        // A light buffer's tile: its candidates with their direction rectangles, then its grid.
+        const CellBeam beam = make_cell_beam(c->bounds, context_.origin_margin, context_.direction_margin);
+        CandidateList tile = candidates_from_tree(*context_.tree, beam, c->bounds.face);
+        add_direction_rects(tile, origins_, c->bounds.face, context_.direction_margin);
+        const double per_cell = double(std::max(1, context_.min_candidates));
+        const int levels = std::clamp(int(std::ceil(std::log2(std::max(1.0, double(tile.size()) / per_cell)) / 2.0)),
+                                      0, max_depth_ - c->depth);
+        c->grid = std::make_unique<DirectionGrid>(make_direction_grid(tile, c->bounds, levels, context_.tree->scene));
+        c->final = true;
+        entries = c->grid->items.size();
     } else {
         const CellBeam beam = make_cell_beam(c->bounds, context_.origin_margin, context_.direction_margin);
-        c->list = candidates_from_parent(parent.list, beam);
+        if (parent.whole_scene || parent.list.size() > kLargestFilteredList)
+            c->list = candidates_from_tree(*context_.tree, beam, c->bounds.face);
+        else
+            c->list = candidates_from_parent(parent.list, beam);
+        c->final = c->list.size() <= std::size_t(context_.min_candidates) || c->depth >= max_depth_;
+        entries = c->list.size();
     }
-    c->final = !c->whole_scene && (c->list.size() <= std::size_t(context_.min_candidates) || c->depth >= max_depth_);
     if (!c->final) add_slots(*c);
     context_.add_bytes(c->memory_bytes(slots()));
-    context_.entries.fetch_add(c->list.size(), std::memory_order_relaxed);
+    context_.entries.fetch_add(entries, std::memory_order_relaxed);
     context_.cells_created.fetch_add(1, std::memory_order_relaxed);
     int deepest = context_.max_depth_reached.load(std::memory_order_relaxed);
     while (c->depth > deepest &&
@@ -115,7 +126,7 @@ void CellTree::delete_cell(Cell* c) const {
     if (!c->final)
         for (int i = 0; i < slots(); ++i) delete_cell(c->children[std::size_t(i)].exchange(nullptr));
     context_.remove_bytes(c->memory_bytes(slots()));
-    context_.entries.fetch_sub(c->list.size(), std::memory_order_relaxed);
+    context_.entries.fetch_sub(c->grid ? c->grid->items.size() : c->list.size(), std::memory_order_relaxed);
     delete c;
 }
 

@@ -12,6 +12,7 @@
 
 #include "beamtrace/query.hpp"
 #include "raycls/candidate_list.hpp"
+#include "raycls/direction_grid.hpp"
 #include "raycls/ray_space.hpp"
 
 namespace beamtrace::raycls {
@@ -37,7 +38,8 @@ struct CellContext {
 
 struct Cell {
     CellBounds bounds;
-    CandidateList list;
+    CandidateList list;                    // 5D cells
+    std::unique_ptr<DirectionGrid> grid;   // a light buffer's tiles
     bool whole_scene = false;  // no list (a root, or above the first level with lists): rays pass through
     bool final = false;        // rays use the list; no children
     int depth = 0;
@@ -46,7 +48,7 @@ struct Cell {
     std::atomic<std::uint64_t> last_used{0};         // the context's epoch of the last ray here
 
     std::size_t memory_bytes(int slots) const {
-        return sizeof(Cell) + list.memory_bytes() +
+        return sizeof(Cell) + list.memory_bytes() + (grid ? grid->memory_bytes() : 0) +
                (final ? 0 : std::size_t(slots) * (sizeof(void*) + (requests ? sizeof(std::uint32_t) : 0)));
     }
 };
@@ -54,7 +56,9 @@ struct Cell {
 class CellTree {
 public:
     // split_origins: the 5D tree (32 children); false: a light buffer (4). Cells above first_list_depth
-    // hold no list (rays pass through them); those at it get theirs from the kd-tree. A cell is made
+    // hold no list (rays pass through them); those at it get theirs from the kd-tree. A light buffer's
+    // cells at first_list_depth are its tiles: final, each with a grid of up to 2^(max_depth -
+    // first_list_depth) cells a side (about min_candidates candidates per cell). A cell is made
     // when the rays_per_new_cell-th ray reaches its place (find() returns nullptr for the ones before).
     CellTree(CellContext& context, const Box& origins, bool split_origins, int max_depth, int first_list_depth,
              int rays_per_new_cell);

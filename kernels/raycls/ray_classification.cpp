@@ -67,7 +67,7 @@ struct RayClassification::Impl {
         const std::size_t n = std::max<std::size_t>(1, ti.scene.triangle_count());
         space_depth = settings.max_depth ? settings.max_depth : std::clamp((log2_ceil(double(n)) + 2) / 3, 5, 8);
         light_depth = settings.light_buffer_max_depth ? settings.light_buffer_max_depth
-                                                      : std::clamp(log2_ceil(double(n) / 6.0) / 2, 6, 12);
+                                                      : std::clamp((log2_ceil(double(n) / 6.0) + 1) / 2 + 2, 6, 14);
         // Lists start where a cell holds about 4,096 candidates (a face's quarter holds a 24th of the scene).
         light_first_list_depth = std::clamp(int(std::lround(std::log2(double(n) / 24576.0) / 2.0)), 1, light_depth);
         const Box& b = ti.bounds;
@@ -200,6 +200,8 @@ Hit trace_one(const Impl& impl, const CallPlan& plan, const Ray& r, const raycls
         }
         if (impl.settings.cache) cache = cell;
     }
+    const std::span<const raycls::Candidate> items =
+        cell->grid ? cell->grid->cell(code.u, code.v) : std::span<const raycls::Candidate>(cell->list.items);
     const int k = raycls::face_axis(code.face);
     const float s = float(raycls::face_sign(code.face));
     const float step = std::fabs(r.dir[k]);
@@ -209,14 +211,14 @@ Hit trace_one(const Impl& impl, const CallPlan& plan, const Ray& r, const raycls
             stop = raycls::key_stop(s * r.org[k], -r.tnear, step);  // the segment's start, seen from the light
         else
             stop = raycls::key_stop(s * r.org[k], r.tfar, step);
-        if (raycls::any_candidate<kCount>(*impl.kernels, cell->list, ray, stop, counters)) {
+        if (raycls::any_candidate<kCount>(*impl.kernels, items, ray, stop, counters)) {
             Hit h;
             h.triangle = 0;  // any id: only hit() is read
             return h;
         }
         return none;
     } else {
-        return raycls::closest_candidate<kCount>(*impl.kernels, cell->list, ray, s * r.org[k], step, counters);
+        return raycls::closest_candidate<kCount>(*impl.kernels, items, ray, s * r.org[k], step, counters);
     }
 }
 

@@ -1,5 +1,5 @@
 // The geometry candidate sets rest on: a cell's beam (nine half-spaces) and a light buffer's
-// direction rectangles never reject a triangle that a ray classified into the cell hits, and they do
+// direction rectangles (and the grid cells they are placed in) never reject a triangle that a ray classified into the cell hits, and they do
 // reject triangles well outside (or the sets would be the whole scene).
 #include <gtest/gtest.h>
 
@@ -7,6 +7,7 @@
 
 #include "common/triangle_reference.hpp"
 #include "raycls/candidate_list.hpp"
+#include "raycls/direction_grid.hpp"
 #include "raycls/cell_beam.hpp"
 #include "raycls/ray_space.hpp"
 
@@ -73,7 +74,7 @@ TEST(CellBeam, NeverRejectsATriangleARayOfTheCellHits) {
         box.extend(tri.v0);
         box.extend(tri.v1);
         box.extend(tri.v2);
-        ASSERT_TRUE(may_meet_box(beam, box)) << "cell " << i;
+        ASSERT_NE(box_side(beam, box), BoxSide::outside) << "cell " << i;
         ++tested;
     }
     EXPECT_GT(tested, 3000);
@@ -91,6 +92,19 @@ TEST(CellBeam, RejectsTrianglesBehindAndBeside) {
     EXPECT_FALSE(may_meet_triangle(beam, behind));
     EXPECT_FALSE(may_meet_triangle(beam, beside));
     EXPECT_TRUE(may_meet_triangle(beam, ahead));
+    Box far_inside;  // well inside the beam, far ahead
+    far_inside.extend(Float3{2.0f, 2.0f, 20.0f});
+    far_inside.extend(Float3{2.2f, 2.2f, 20.5f});
+    EXPECT_EQ(box_side(beam, far_inside), BoxSide::inside);
+    Box straddling;
+    straddling.extend(Float3{0.5f, 0.5f, -1.0f});
+    straddling.extend(Float3{0.6f, 0.6f, 3.0f});
+    EXPECT_EQ(box_side(beam, straddling), BoxSide::partly);
+    Box behind_box;
+    behind_box.extend(behind.v0);
+    behind_box.extend(behind.v1);
+    behind_box.extend(behind.v2);
+    EXPECT_EQ(box_side(beam, behind_box), BoxSide::outside);
 }
 
 TEST(DirectionRects, HoldTheDirectionOfEveryRayFromTheApexThatHits) {
@@ -106,16 +120,21 @@ TEST(DirectionRects, HoldTheDirectionOfEveryRayFromTheApexThatHits) {
         const Ray r = ray_in(c, rng);
         const DirectionCode code = direction_code(r.dir);
         if (code.face != c.face) continue;
+        const Triangle tri = triangle_around(r, t(rng), rng);
+        const Float3 corners[3] = {tri.v0, tri.v1, tri.v2};
+        const std::uint32_t indices[3] = {0, 1, 2};
+        const Scene scene(corners, indices);
         CandidateList list;
-        list.items.push_back(Candidate{triangle_around(r, t(rng), rng), 0.0f, 0});
+        list.items.push_back(Candidate{tri, 0.0f, 0});
         add_direction_rects(list, apex, c.face, 1e-6);
-        const DirectionRect& rect = list.rect[0];
+        const DirectionRect& rect = list.rect_items[0].rect;
         ASSERT_LE(rect.u0, code.u) << i;
         ASSERT_GE(rect.u1, code.u) << i;
         ASSERT_LE(rect.v0, code.v) << i;
         ASSERT_GE(rect.v1, code.v) << i;
-        const CandidateList kept = candidates_in_rect(list, c);
-        ASSERT_EQ(kept.size(), 1u) << i;
+        // The tile's grid (up to 64 cells a side) holds it in the ray's cell.
+        const DirectionGrid grid = make_direction_grid(list, c, int(rng() % 7), scene);
+        ASSERT_EQ(grid.cell(code.u, code.v).size(), 1u) << i;
         ++tested;
     }
     EXPECT_GT(tested, 2000);
