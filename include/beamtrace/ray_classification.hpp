@@ -46,6 +46,11 @@ struct RayClsSettings {
     // triangles a 5D cell costs far more to make than a ray saves, so only cells that enough rays
     // share are made (docs/raycls.md). Light buffers make every cell a ray reaches (1).
     int rays_per_new_cell = 16;
+    // The lazy build's work, at most this many candidate entries made per ray classified (summed over
+    // the calls since the classification was made or cleared; 0: no cap). Beyond it no cell is made
+    // and rays whose cell is missing go to the kd-tree, so a scene whose cells cost more than their
+    // rays save (the 5D tree on a million triangles) runs at about the kd-tree's speed, not slower.
+    int entries_per_ray = 16;
     // Remember the last cell per thread (the thesis's cache) and try it first.
     bool cache = true;
     // Collapse the origin dimensions of calls whose rays share an end point or a start point.

@@ -92,6 +92,7 @@ Cell* CellTree::make_child(const Cell& parent, int index) const {
     if (!c->final) add_slots(*c);
     context_.add_bytes(c->memory_bytes(slots()));
     context_.entries.fetch_add(entries, std::memory_order_relaxed);
+    context_.entries_made.fetch_add(entries, std::memory_order_relaxed);
     context_.cells_created.fetch_add(1, std::memory_order_relaxed);
     int deepest = context_.max_depth_reached.load(std::memory_order_relaxed);
     while (c->depth > deepest &&

@@ -26,12 +26,17 @@ struct CellContext {
     double origin_margin = 0.0, direction_margin = 0.0;
     std::atomic<std::size_t> bytes{0}, peak_bytes{0};
     std::atomic<std::uint64_t> cells_created{0}, cells_freed{0}, entries{0}, build_ns{0}, epoch{1};
+    // Entries made so far, and how many may be (entries_per_ray x rays of the calls so far; 0: no cap).
+    std::atomic<std::uint64_t> entries_made{0}, entry_allowance{0};
+    bool capped = false;
     std::atomic<int> max_depth_reached{0};
 
     void add_bytes(std::size_t b);
     void remove_bytes(std::size_t b) { bytes.fetch_sub(b, std::memory_order_relaxed); }
-    // New cells may be made (the budget is not exhausted).
+    // New cells may be made (neither the memory budget nor the work cap is exhausted).
     bool may_grow() const {
+        if (capped && entries_made.load(std::memory_order_relaxed) >= entry_allowance.load(std::memory_order_relaxed))
+            return false;
         return memory_budget == 0 || bytes.load(std::memory_order_relaxed) < memory_budget;
     }
 };

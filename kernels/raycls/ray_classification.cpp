@@ -30,6 +30,8 @@ void RayClsSettings::validate() const {
                     std::to_string(light_buffer_max_depth));
     if (min_candidates < 0)
         throw Error("ray classification: min_candidates must be at least 0, not " + std::to_string(min_candidates));
+    if (entries_per_ray < 0)
+        throw Error("ray classification: entries_per_ray must be at least 0, not " + std::to_string(entries_per_ray));
     if (rays_per_new_cell < 1)
         throw Error("ray classification: rays_per_new_cell must be at least 1, not " +
                     std::to_string(rays_per_new_cell));
@@ -77,6 +79,7 @@ struct RayClassification::Impl {
         context.tree = &ti;
         context.min_candidates = settings.min_candidates;
         context.memory_budget = settings.memory_budget_bytes;
+        context.capped = settings.entries_per_ray > 0;
         // Rounding of the points rays are classified from (float sums of the scene's magnitude) and
         // of the direction codes (one division, |u| <= 1): both far below the margins.
         context.origin_margin = double(scene_scale) * 1e-5;
@@ -84,9 +87,12 @@ struct RayClassification::Impl {
         space = std::make_unique<CellTree>(context, b, true, space_depth, 1, settings.rays_per_new_cell);
     }
 
-    // Frees cells while no call runs: down to half the budget when over it.
-    void start_call() const {
+    // A call of `rays` rays starts: the work cap grows; cells are freed while no call runs, down to
+    // half the budget when over it.
+    void start_call(std::size_t rays) const {
         context.epoch.fetch_add(1, std::memory_order_relaxed);
+        context.entry_allowance.fetch_add(std::uint64_t(rays) * std::uint64_t(settings.entries_per_ray),
+                                          std::memory_order_relaxed);
         if (settings.memory_budget_bytes == 0 || context.bytes.load() <= settings.memory_budget_bytes) return;
         std::unique_lock<std::shared_mutex> alone(use_mutex, std::try_to_lock);
         if (!alone.owns_lock()) return;
@@ -224,7 +230,7 @@ Hit trace_one(const Impl& impl, const CallPlan& plan, const Ray& r, const raycls
 
 template <bool kOcclusion, class Out>
 void trace_span(const Impl& impl, std::span<const Ray> rays, const QueryOptions& options, Out&& out) {
-    impl.start_call();
+    impl.start_call(rays.size());
     std::shared_lock<std::shared_mutex> use(impl.use_mutex);
     const CallPlan plan = plan_call(impl, rays, kOcclusion);
     run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
@@ -257,14 +263,14 @@ RayClassification::RayClassification(const KdTree& tree, const RayClsSettings& s
     : impl_(std::make_shared<Impl>(tree, settings)) {}
 
 Hit RayClassification::intersect(const Ray& ray) const {
-    impl_->start_call();
+    impl_->start_call(1);
     std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
     const raycls::Cell* cache = nullptr;
     return trace_one<false, false>(*impl_, CallPlan{Frame::space, impl_->space.get()}, ray, cache, nullptr);
 }
 
 bool RayClassification::occluded(const Ray& ray) const {
-    impl_->start_call();
+    impl_->start_call(1);
     std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
     const raycls::Cell* cache = nullptr;
     return trace_one<true, false>(*impl_, CallPlan{Frame::space, impl_->space.get()}, ray, cache, nullptr).hit();
@@ -307,6 +313,8 @@ void RayClassification::clear() const {
     impl_->buffers.clear();
     raycls::prune(impl_->context, {impl_->space.get()}, 0);
     impl_->context.cells_created = 0;
+    impl_->context.entries_made = 0;
+    impl_->context.entry_allowance = 0;
     impl_->context.cells_freed = 0;
     impl_->context.build_ns = 0;
     impl_->context.max_depth_reached = 0;

@@ -40,7 +40,7 @@ void expect_same_hit(const Hit& got, const Hit& want, std::size_t i, const char*
 void check_all(const RayClassification& rc, const Scene& scene, const std::vector<Ray>& rays, const char* what,
                int threads = 1, QueryCounters* counters = nullptr) {
     // Exact ties may differ only for rays the kd-tree answers (cells not made yet).
-    const Scene* tie = rc.settings().rays_per_new_cell > 1 ? &scene : nullptr;
+    const Scene* tie = rc.settings().rays_per_new_cell > 1 || rc.settings().entries_per_ray > 0 ? &scene : nullptr;
     std::vector<Hit> hits(rays.size());
     std::vector<std::uint8_t> occ(rays.size());
     rc.intersect(rays, hits, QueryOptions{threads, counters});
@@ -132,6 +132,7 @@ TEST(RayClassification, SpaceTreeEqualsBruteForce) {
     for (const Case& c : scenes()) {
         RayClsSettings every_cell;
         every_cell.rays_per_new_cell = 1;  // no ray left to the kd-tree: bit for bit, ties included
+        every_cell.entries_per_ray = 0;
         const RayClassification rc(c.scene, every_cell);
         std::vector<Ray> rays = test::random_rays(c.scene.bounds(), 3000, 11);
         const std::vector<Ray> axis = test::axis_rays(c.scene, 1500, 12);
@@ -221,6 +222,7 @@ TEST(RayClassification, BudgetTooSmallFallsBackToTheTreeAndPrunes) {
     RayClsSettings s;
     s.memory_budget_bytes = 64 * 1024;  // a few cells
     s.rays_per_new_cell = 1;
+    s.entries_per_ray = 0;
     const RayClassification rc(scene, s);
     const std::vector<Ray> rays = test::random_rays(scene.bounds(), 3000, 51);
     for (int call = 0; call < 3; ++call) {
@@ -241,6 +243,19 @@ TEST(RayClassification, BudgetTooSmallFallsBackToTheTreeAndPrunes) {
     EXPECT_GT(st.cells_freed, 0u) << "calls over the budget free old cells";
     EXPECT_LE(st.memory_peak_bytes, s.memory_budget_bytes + 4 * 1024 * 1024)
         << "at most the cells that were being made when the budget ran out";
+}
+
+TEST(RayClassification, WorkCapLeavesRaysToTheTree) {
+    const Scene scene = test::random_soup(3000, 4);
+    RayClsSettings s;
+    s.entries_per_ray = 1;  // far fewer entries than the cells need
+    s.rays_per_new_cell = 1;
+    const RayClassification rc(scene, s);
+    const std::vector<Ray> rays = test::random_rays(scene.bounds(), 2000, 71);
+    QueryCounters counters;
+    check_all(rc, scene, rays, "capped", 1, &counters);
+    EXPECT_GT(counters.rays, 0u) << "rays traced by the kd-tree once the cap is reached";
+    EXPECT_GT(rc.stats().cells_created, 0u);
 }
 
 TEST(RayClassification, ClearForgetsCellsAndKeepsAnswers) {
@@ -281,13 +296,14 @@ TEST(RayClassification, RaysThatDescribeNoSegmentNeverHit) {
 
 TEST(RayClassification, BadInputIsRejectedWithAMessage) {
     const Scene scene = test::random_soup(100, 1);
-    for (int which = 0; which < 5; ++which) {
+    for (int which = 0; which < 6; ++which) {
         RayClsSettings s;
         if (which == 0) s.max_depth = -1;
         if (which == 1) s.max_depth = 13;
         if (which == 2) s.light_buffer_max_depth = 21;
         if (which == 3) s.min_candidates = -2;
         if (which == 4) s.rays_per_new_cell = 0;
+        if (which == 5) s.entries_per_ray = -1;
         EXPECT_THROW(s.validate(), Error);
         EXPECT_THROW(RayClassification(scene, s), Error);
     }

@@ -42,8 +42,9 @@ struct RayOptions {
 };
 void add_ray_options(CLI::App& command, RayOptions& options);
 
-// raycls's settings: --raycls-depth, --raycls-light-depth, --raycls-min-candidates, --raycls-memory,
-// --no-raycls-cache, --no-light-buffers.
+// raycls's settings: --raycls-depth, --raycls-light-depth, --raycls-min-candidates,
+// --raycls-rays-per-cell, --raycls-entries-per-ray, --raycls-memory, --no-raycls-cache,
+// --no-light-buffers.
 void add_raycls_options(CLI::App& command, RayClsSettings& settings);
 
 // The workload they describe (throws beamtrace::Error for a bad camera, light, mode or order, or

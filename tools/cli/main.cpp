@@ -76,6 +76,15 @@ void add_raycls_options(CLI::App& command, RayClsSettings& s) {
                     "raycls: cells with at most this many candidates are not subdivided (the thesis's m)")
         ->capture_default_str();
     command
+        .add_option("--raycls-rays-per-cell", s.rays_per_new_cell,
+                    "raycls: a 5D cell is made once this many rays reach it (the rays before go to the kd-tree)")
+        ->capture_default_str();
+    command
+        .add_option("--raycls-entries-per-ray", s.entries_per_ray,
+                    "raycls: at most this many candidate entries made per ray classified (0: no cap); beyond it "
+                    "rays whose cell is missing go to the kd-tree")
+        ->capture_default_str();
+    command
         .add_option("--raycls-memory", s.memory_budget_bytes,
                     "raycls: bytes the lazily made cells may hold, e.g. 512M, 2G (0: unbounded); beyond it rays "
                     "whose cell is missing are traced by the kd-tree and old cells are freed between calls")

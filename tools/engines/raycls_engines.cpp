@@ -67,6 +67,8 @@ public:
                              {{"max_depth", set.max_depth},
                               {"light_buffer_max_depth", set.light_buffer_max_depth},
                               {"min_candidates", set.min_candidates},
+                              {"rays_per_new_cell", set.rays_per_new_cell},
+                              {"entries_per_ray", set.entries_per_ray},
                               {"cache", set.cache},
                               {"light_buffers", set.light_buffers},
                               {"memory_budget_bytes", set.memory_budget_bytes}}}};
