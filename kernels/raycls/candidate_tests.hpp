@@ -26,6 +26,20 @@ inline float key_stop(float key_origin, float t, float step) {
     return key_origin + along + key_margin(std::fabs(key_origin) + std::fabs(along));
 }
 
+// The batch of up to eight candidates from `first` against the ray; returns how many were tested.
+inline int test_batch(const TriangleKernels& kernels, const WatertightRay& w, std::span<const Candidate> list,
+                      std::uint32_t first, LaneHits& lanes) {
+    const std::uint32_t n = std::uint32_t(list.size());
+    const int count = int(n - first < 8 ? n - first : 8);
+    const Triangle* batch[8];
+    for (int j = 0; j < count; ++j) batch[j] = &list[first + std::uint32_t(j)].corners;
+    if (count <= 4)
+        kernels.ray_x4(w, batch, count, lanes);
+    else
+        kernels.ray_x8(w, batch, count, lanes);
+    return count;
+}
+
 // Closest hit along the ray. key_origin: s * org_k (s the sign of the ray's face, k its axis), step:
 // |dir_k|; a hit at t lies at key key_origin + t * step.
 template <bool kCount>
@@ -37,14 +51,8 @@ Hit closest_candidate(const TriangleKernels& kernels, std::span<const Candidate>
     float stop = key_stop(key_origin, ray.tfar, step);
     for (std::uint32_t first = 0; first < n; first += 8) {
         if (list[first].key > stop) break;
-        const int count = int(n - first < 8 ? n - first : 8);
-        const Triangle* batch[8];
-        for (int j = 0; j < count; ++j) batch[j] = &list[first + std::uint32_t(j)].corners;
         LaneHits lanes;
-        if (count <= 4)
-            kernels.ray_x4(w, batch, count, lanes);
-        else
-            kernels.ray_x8(w, batch, count, lanes);
+        const int count = test_batch(kernels, w, list, first, lanes);
         if constexpr (kCount) {
             counters->raycls.candidates += std::uint64_t(count);
             counters->triangle_tests += std::uint64_t(count);
@@ -71,14 +79,8 @@ bool any_candidate(const TriangleKernels& kernels, std::span<const Candidate> li
     const std::uint32_t n = std::uint32_t(list.size());
     for (std::uint32_t first = 0; first < n; first += 8) {
         if (list[first].key > stop) break;
-        const int count = int(n - first < 8 ? n - first : 8);
-        const Triangle* batch[8];
-        for (int j = 0; j < count; ++j) batch[j] = &list[first + std::uint32_t(j)].corners;
         LaneHits lanes;
-        if (count <= 4)
-            kernels.ray_x4(w, batch, count, lanes);
-        else
-            kernels.ray_x8(w, batch, count, lanes);
+        const int count = test_batch(kernels, w, list, first, lanes);
         if constexpr (kCount) {
             counters->raycls.candidates += std::uint64_t(count);
             counters->triangle_tests += std::uint64_t(count);
