@@ -16,7 +16,7 @@ using workload::Mode;
 using workload::RaySet;
 
 std::vector<EngineUnderTest> build_engines(const Scene& scene, const EngineChoice& choice) {
-    std::vector<std::string> names = {"kd1", "kd16", "mlrta", "vlf", "stream"};
+    std::vector<std::string> names = {"kd1", "kd16", "mlrta", "vlf", "stream", "raycls"};
     if (choice.brute) names.push_back("brute");
     if (choice.vlf_fast) names.push_back("vlf-fast");
     if (choice.crsh) names.insert(names.end(), {"crsh", "rah"});
