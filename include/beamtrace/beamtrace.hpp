@@ -6,6 +6,7 @@
 #include "beamtrace/mlrta.hpp"
 #include "beamtrace/ray.hpp"
 #include "beamtrace/scene.hpp"
+#include "beamtrace/sorted_lists.hpp"
 #include "beamtrace/stats.hpp"
 #include "beamtrace/stream.hpp"
 #include "beamtrace/vec.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// The query contract every accelerator (KdTree, Mlrta, VisibilityField, Crsh) offers, the same six calls:
+// The query contract every accelerator (KdTree, Mlrta, VisibilityField, Crsh, SortedLists) offers, the same six calls:
 //
 //   Hit  intersect(const Ray&) const;                  bool occluded(const Ray&) const;
 //   void intersect(std::span<const Ray>, std::span<Hit>, const QueryOptions& = {}) const;
@@ -71,6 +71,15 @@ struct QueryCounters {
         std::uint64_t key_ns = 0, sort_ns = 0, hierarchy_ns = 0, traversal_ns = 0;
     } crsh;
 
+    // Sorted lists (sorted_lists.hpp, Fournier and Poulin). Rays and triangle tests are counted in
+    // the top-level rays and triangle_tests.
+    struct Lists {
+        std::uint64_t events = 0;          // events treated: taken in ray order, plus those walked on opening a volume
+        std::uint64_t walked_events = 0;   // of these, walked on opening a volume (behind the point it was opened at)
+        std::uint64_t volumes_opened = 0;  // volumes entered on every axis (their child lists traversed)
+        std::uint64_t heap_ops = 0;        // pushes and pops of the list of next events (stale entries included)
+    } lists;
+
     QueryCounters& operator+=(const QueryCounters& o) {
         rays += o.rays;
         packets += o.packets;
@@ -108,6 +117,10 @@ struct QueryCounters {
         crsh.sort_ns += o.crsh.sort_ns;
         crsh.hierarchy_ns += o.crsh.hierarchy_ns;
         crsh.traversal_ns += o.crsh.traversal_ns;
+        lists.events += o.lists.events;
+        lists.walked_events += o.lists.walked_events;
+        lists.volumes_opened += o.lists.volumes_opened;
+        lists.heap_ops += o.lists.heap_ops;
         return *this;
     }
 };

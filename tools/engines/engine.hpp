@@ -16,6 +16,7 @@
 #include "beamtrace/kdtree.hpp"
 #include "beamtrace/mlrta.hpp"
 #include "beamtrace/scene.hpp"
+#include "beamtrace/sorted_lists.hpp"
 #include "beamtrace/stream.hpp"
 #include "beamtrace/vlf.hpp"
 #include "rays/ray_set.hpp"
@@ -43,6 +44,8 @@ struct EngineOptions {
     // (Crsh::predicted_top_level_tests) exceed it is refused with an error (docs/crsh.md).
     std::uint64_t crsh_budget = kDefaultCrshBudget;
     static constexpr std::uint64_t kDefaultCrshBudget = 1'000'000'000ull;
+    // lists, lists-flat: the hierarchy's rules (flat is the engine's).
+    SortedListRules lists;
 };
 
 // An engine's answers to a ray set's rays: per slot (packet * 16 + lane) for the comparison, the

@@ -24,6 +24,8 @@ std::unique_ptr<KdTree> build_packet_tree(const Scene& scene, const EngineOption
 nlohmann::json tree_json(const KdBuildStats& stats);
 // crsh (sort = true: CRSH with object spheres) or rah (Roger et al.: input order, no object spheres).
 std::unique_ptr<Engine> make_crsh_engine(bool sort);
+// lists (the hierarchy of sorted lists) or lists-flat (one level).
+std::unique_ptr<Engine> make_lists_engine(bool flat);
 
 // The statistics kd16 and mlrta report alike (the paper's Tables 2 and 3): cells, entry-point
 // cells and intersections per packet and the other packet counters; and MLRTA's settings.
