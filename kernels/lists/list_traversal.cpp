@@ -56,10 +56,14 @@ struct HeapEntry {
     std::uint32_t cursor;
 };
 
-// Heap order: the entry that comes later is "less" (std heaps keep the greatest on top).
-inline bool later(const HeapEntry& a, const HeapEntry& b) {
-    return a.key > b.key || (a.key == b.key && a.order > b.order);
-}
+// Heap order: the entry that comes later is "less" (std heaps keep the greatest on top). A function
+// object, so that the heap's sift loops inline it.
+struct Later {
+    bool operator()(const HeapEntry& a, const HeapEntry& b) const {
+        return a.key > b.key || (a.key == b.key && a.order > b.order);
+    }
+};
+constexpr Later later{};
 
 // Per-thread scratch, reused by every ray of the thread (any SortedLists: items are stamped per ray).
 struct Scratch {
@@ -124,16 +128,20 @@ public:
         while (!done_ && !s_.heap.empty()) {
             const HeapEntry top = s_.heap.front();
             if (top.key > limit_) break;
-            std::pop_heap(s_.heap.begin(), s_.heap.end(), later);
-            s_.heap.pop_back();
             if constexpr (kCount) ++counters_->lists.heap_ops;
             Cursor& c = s_.cursors[top.cursor];
-            if (state(c.volume).processed) continue;  // a closed volume's run
+            if (state(c.volume).processed) {  // a closed volume's run: dropped
+                pop_top();
+                continue;
+            }
             const Event e = c.at(c.next++);
             const bool out = c.out != 0;
-            if (c.next < c.count) {
-                const float key = key_of(c, c.at(c.next).value);
-                if (key != kInfinity) push(top.cursor, key);
+            const float next = c.next < c.count ? key_of(c, c.at(c.next).value) : kInfinity;
+            if (next != kInfinity) {  // the cursor's next event takes its place (one sift instead of two)
+                if constexpr (kCount) ++counters_->lists.heap_ops;
+                replace_top(HeapEntry{next, top.order, top.cursor});
+            } else {
+                pop_top();
             }
             if constexpr (kCount) ++counters_->lists.events;
             treat(e.item, out, top.key);
@@ -159,6 +167,27 @@ private:
         ItemState& st = s_.state[item];
         if (st.stamp != s_.stamp) st = ItemState{s_.stamp, 0, 0};
         return st;
+    }
+
+    // The heap's top replaced by x, sifted down.
+    void replace_top(const HeapEntry& x) {
+        std::vector<HeapEntry>& h = s_.heap;
+        const std::size_t n = h.size();
+        std::size_t i = 0;
+        for (;;) {
+            std::size_t child = 2 * i + 1;
+            if (child >= n) break;
+            if (child + 1 < n && later(h[child], h[child + 1])) ++child;  // the earlier child
+            if (!later(x, h[child])) break;
+            h[i] = h[child];
+            i = child;
+        }
+        h[i] = x;
+    }
+    void pop_top() {
+        const HeapEntry last = s_.heap.back();
+        s_.heap.pop_back();
+        if (!s_.heap.empty()) replace_top(last);
     }
 
     void push(std::uint32_t cursor, float key) {
