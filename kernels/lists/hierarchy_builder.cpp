@@ -71,8 +71,8 @@ struct Builder {
             bool large = false;
             for (int a = 0; a < 3; ++a) {
                 const float extent = box.upper[a] - box.lower[a];
-                large = large || (extent > 0.0f && boxes[t].upper[a] - boxes[t].lower[a] >=
-                                                       impl.rules.special_cell_fraction * extent);
+                large = large || (extent > 0.0f &&
+                                  boxes[t].upper[a] - boxes[t].lower[a] >= impl.rules.special_cell_fraction * extent);
             }
             (large ? direct : rest).push_back(t);
         }
@@ -157,8 +157,7 @@ struct Builder {
                 for (int upper = 0; upper < 2; ++upper) {
                     const std::size_t start = impl.events.size();
                     for (std::size_t i = 0; i < items.size(); ++i)
-                        impl.events.push_back(
-                            Event{upper ? item_boxes[i].upper[a] : item_boxes[i].lower[a], items[i]});
+                        impl.events.push_back(Event{upper ? item_boxes[i].upper[a] : item_boxes[i].lower[a], items[i]});
                     std::sort(impl.events.begin() + std::ptrdiff_t(start), impl.events.end(),
                               [](const Event& x, const Event& y) {
                                   return x.value < y.value || (x.value == y.value && x.item < y.item);

@@ -1,9 +1,9 @@
 // The paper's ray traversal of a hierarchy of sorted lists, with its CPU replacements (notes 1.4):
 //
-// - Each event gets a *key*: its ray parameter t = (value - org) / dir, moved earlier by a slack for
-//   an IN event and later for an OUT event (slack(t) below), so that rounding can only make a box
-//   look larger: a box the exact ray touches is always entered, and every triangle the watertight
-//   test hits is tested. Because the slack differs for IN and OUT, each axis list is read as its two
+// - Each event gets a *key*: its ray parameter t = (value - org) / dir (a quotient), moved earlier
+//   by a slack for an IN event and later for an OUT event (slack(t) below), so that rounding can
+//   only make a box look larger: a box the exact ray touches is always entered, and every triangle
+//   the watertight test hits is tested. Because the slack differs for IN and OUT, each axis list is read as its two
 //   sorted halves (IN: the lower coordinates ascending when dir > 0, the upper ones descending when
 //   dir < 0; OUT the other half), each with keys in ray order. An axis with dir == 0 has no events in
 //   ray order: its IN keys are -inf (lower <= org) or +inf, its OUT keys -inf (upper < org) or +inf,
@@ -104,7 +104,6 @@ public:
         for (int a = 0; a < 3; ++a) {
             reach += std::max(std::fabs(root.lower[a] - ray.org[a]), std::fabs(root.upper[a] - ray.org[a]));
             dmax = std::max(dmax, std::fabs(ray.dir[a]));
-            inv_[a] = 1.0f / ray.dir[a];
             sign_[a] = ray.dir[a] > 0.0f ? 1 : (ray.dir[a] < 0.0f ? -1 : 0);
         }
         absolute_ = reach * kRelativeSlack / dmax;
@@ -150,16 +149,18 @@ public:
     }
 
 private:
-    // The key of an IN event (earlier than its t) and of an OUT event (later).
+    // The key of an IN event (earlier than its t) and of an OUT event (later). t is a quotient, not a
+    // product with 1 / dir: a denormal dir component has no finite reciprocal, and an event at the
+    // origin's coordinate would give 0 * inf = NaN (a sign's worth of exact t is all that is needed).
     float early(float t) const { return std::isinf(t) ? t : t - (std::fabs(t) * kRelativeSlack + absolute_); }
     float late(float t) const { return std::isinf(t) ? t : t + (std::fabs(t) * kRelativeSlack + absolute_); }
     float in_key(int a, float value) const {
         if (sign_[a] == 0) return value <= ray_.org[a] ? -kInfinity : kInfinity;
-        return early((value - ray_.org[a]) * inv_[a]);
+        return early((value - ray_.org[a]) / ray_.dir[a]);
     }
     float out_key(int a, float value) const {
         if (sign_[a] == 0) return value < ray_.org[a] ? -kInfinity : kInfinity;
-        return late((value - ray_.org[a]) * inv_[a]);
+        return late((value - ray_.org[a]) / ray_.dir[a]);
     }
     float key_of(const Cursor& c, float value) const { return c.out ? out_key(c.axis, value) : in_key(c.axis, value); }
 
@@ -283,7 +284,6 @@ private:
     QueryCounters* counters_;
     Scratch& s_;
     WatertightRay w_;
-    Float3 inv_;
     int sign_[3];
     float absolute_ = 0.0f;
     float limit_ = kInfinity;  // keys beyond this cannot matter (tfar, then the closest hit, with slack)

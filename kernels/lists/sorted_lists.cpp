@@ -17,7 +17,8 @@ constexpr std::size_t kRayGrain = 256, kPacketGrain = 16;
 
 template <bool kOcclusion>
 Hit trace(const SortedLists::Impl& impl, const Ray& ray, QueryCounters* c) {
-    return c ? lists::trace_ray<kOcclusion, true>(impl, ray, c) : lists::trace_ray<kOcclusion, false>(impl, ray, nullptr);
+    return c ? lists::trace_ray<kOcclusion, true>(impl, ray, c)
+             : lists::trace_ray<kOcclusion, false>(impl, ray, nullptr);
 }
 
 template <bool kOcclusion, class Out>
@@ -62,7 +63,8 @@ void SortedListRules::validate() const {
             throw Error("SortedListRules: grid[" + std::to_string(a) + "] must be between 1 and 16, not " +
                         std::to_string(grid[a]));
     if (!flat && grid[0] * grid[1] * grid[2] < 2)
-        throw Error("SortedListRules: the grid must have at least 2 cells (1x1x1 never splits; use flat for one level)");
+        throw Error(
+            "SortedListRules: the grid must have at least 2 cells (1x1x1 never splits; use flat for one level)");
     if (leaf_objects < 1)
         throw Error("SortedListRules: leaf_objects must be at least 1, not " + std::to_string(leaf_objects));
     if (!(special_cell_fraction > 0.0f && special_cell_fraction <= 1.0f))
@@ -72,8 +74,7 @@ void SortedListRules::validate() const {
 
 SortedLists SortedLists::build(const Scene& scene, const SortedListRules& rules) {
     rules.validate();
-    if (scene.triangle_count() >= std::size_t{1} << 31)
-        throw Error("SortedLists: at most 2^31 - 1 triangles");
+    if (scene.triangle_count() >= std::size_t{1} << 31) throw Error("SortedLists: at most 2^31 - 1 triangles");
     const auto start = std::chrono::steady_clock::now();
     auto impl = std::make_shared<Impl>(scene, rules);
     lists::build_hierarchy(*impl);

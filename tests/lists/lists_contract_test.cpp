@@ -71,11 +71,13 @@ TEST(ListsContract, RaysThatDescribeNoSegmentReportNothing) {
     const Scene scene = test::random_soup(200, 3, 0.3f);
     const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
     const Float3 c{0.5f, 0.5f, 0.5f};
-    const std::vector<Ray> bad = {
-        Ray{c, 0.0f, Float3{0, 0, 0}, inf},       Ray{c, 0.0f, Float3{nan, 1, 0}, inf},
-        Ray{Float3{inf, 0, 0}, 0.0f, Float3{1, 0, 0}, inf}, Ray{c, 2.0f, Float3{1, 0, 0}, 1.0f},
-        Ray{c, nan, Float3{1, 0, 0}, inf},        Ray{c, 0.0f, Float3{1, 0, 0}, nan},
-        Ray{c, -inf, Float3{1, 0, 0}, inf}};
+    const std::vector<Ray> bad = {Ray{c, 0.0f, Float3{0, 0, 0}, inf},
+                                  Ray{c, 0.0f, Float3{nan, 1, 0}, inf},
+                                  Ray{Float3{inf, 0, 0}, 0.0f, Float3{1, 0, 0}, inf},
+                                  Ray{c, 2.0f, Float3{1, 0, 0}, 1.0f},
+                                  Ray{c, nan, Float3{1, 0, 0}, inf},
+                                  Ray{c, 0.0f, Float3{1, 0, 0}, nan},
+                                  Ray{c, -inf, Float3{1, 0, 0}, inf}};
     for (bool flat : {false, true}) {
         SortedListRules r;
         r.flat = flat;

@@ -60,7 +60,8 @@ std::vector<Ray> grazing_rays(const Scene& scene, int n, unsigned seed) {
 }
 
 // Origins whose coordinates are those of other triangles' corners (event values on every axis), in
-// random and axis directions, with tnear 0 or negative and some short segments.
+// random and axis directions (some components denormal or tiny), with tnear 0 or negative and some
+// short segments.
 std::vector<Ray> event_origin_rays(const Scene& scene, int n, unsigned seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
@@ -76,6 +77,8 @@ std::vector<Ray> event_origin_rays(const Scene& scene, int n, unsigned seed) {
             r.dir = Float3{0.0f, -0.0f, 0.0f};
             r.dir[axis] = (rng() % 2) ? 1.0f : -1.0f;
         }
+        // Denormal and tiny components (no finite reciprocal; t overflows).
+        if (rng() % 6 == 0) r.dir[int(rng() % 3)] = (rng() % 2 ? 1.0f : -1.0f) * (rng() % 2 ? 8.6e-40f : 1e-30f);
         if (r.dir.x == 0.0f && r.dir.y == 0.0f && r.dir.z == 0.0f) r.dir.x = 1.0f;
         if (rng() % 4 == 0) r.tnear = -0.25f * scene.bounds().diagonal() / length(r.dir);
         if (rng() % 4 == 0) r.tfar = 0.1f * scene.bounds().diagonal() / length(r.dir);
@@ -218,8 +221,8 @@ TEST(ListsProperty, CoincidentTrianglesTieToTheSmallerId) {
     for (int copy = 0; copy < 3; ++copy)
         for (int i = 0; i < 4; ++i)
             for (int j = 0; j < 4; ++j) {
-                const Float3 a{float(i), float(j), 0.0f}, b{float(i + 1), float(j), 0.0f}, c{float(i + 1), float(j + 1), 0.0f},
-                    d{float(i), float(j + 1), 0.0f};
+                const Float3 a{float(i), float(j), 0.0f}, b{float(i + 1), float(j), 0.0f},
+                    c{float(i + 1), float(j + 1), 0.0f}, d{float(i), float(j + 1), 0.0f};
                 if (copy == 1)
                     s.add_quad(d, c, b, a);
                 else

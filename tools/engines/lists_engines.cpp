@@ -23,9 +23,10 @@ public:
     void build(const Scene& scene, const EngineOptions& options) override {
         const std::size_t limit = flat_ ? kMaxFlatTriangles : kMaxTriangles;
         if (scene.triangle_count() > limit)
-            throw Error("engine " + name() + " refuses scenes over " + std::to_string(limit) +
-                        " triangles (this one has " + std::to_string(scene.triangle_count()) +
-                        (flat_ ? "): every ray walks the events of every triangle" : "): a baseline, not a fast engine"));
+            throw Error(
+                "engine " + name() + " refuses scenes over " + std::to_string(limit) + " triangles (this one has " +
+                std::to_string(scene.triangle_count()) +
+                (flat_ ? "): every ray walks the events of every triangle" : "): a baseline, not a fast engine"));
         SortedListRules rules = options.lists;
         rules.flat = flat_;
         lists_ = std::make_unique<SortedLists>(SortedLists::build(scene, rules));
