@@ -200,6 +200,7 @@ std::function<void()> add_bench_command(CLI::App& app) {
         args->crsh.validate();
         bo.engine_options.crsh = args->crsh;
         bo.engine_options.crsh_budget = static_cast<std::uint64_t>(args->crsh_budget_millions * 1e6);
+        if (args->lists_grid.size() == 2) throw Error("--lists-grid takes one number or three, not two");
         for (int a = 0; a < 3; ++a)
             args->lists.grid[a] = args->lists_grid[args->lists_grid.size() == 3 ? std::size_t(a) : 0];
         args->lists.validate();
