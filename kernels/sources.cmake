@@ -73,6 +73,9 @@ foreach(source
     crsh/crsh_impl.cpp
     crsh/traversal.cpp
     crsh/crsh.cpp
+    lists/hierarchy_builder.cpp
+    lists/list_traversal.cpp
+    lists/sorted_lists.cpp
   )
   list(APPEND BEAMTRACE_SOURCES ${BEAMTRACE_KERNELS_DIR}/${source})
 endforeach()

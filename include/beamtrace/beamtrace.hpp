@@ -7,6 +7,7 @@
 #include "beamtrace/ray.hpp"
 #include "beamtrace/ray_classification.hpp"
 #include "beamtrace/scene.hpp"
+#include "beamtrace/sorted_lists.hpp"
 #include "beamtrace/stats.hpp"
 #include "beamtrace/stream.hpp"
 #include "beamtrace/vec.hpp"

@@ -1,5 +1,6 @@
 #pragma once
-// The query contract every accelerator (KdTree, Mlrta, VisibilityField, Crsh, RayClassification) offers, the same six calls:
+// The query contract every accelerator (KdTree, Mlrta, VisibilityField, Crsh, RayClassification, SortedLists) offers,
+// the same six calls:
 //
 //   Hit  intersect(const Ray&) const;                  bool occluded(const Ray&) const;
 //   void intersect(std::span<const Ray>, std::span<Hit>, const QueryOptions& = {}) const;
@@ -79,6 +80,14 @@ struct QueryCounters {
         std::uint64_t descent_steps = 0;      // cells passed on the way down from a face (cache misses)
         std::uint64_t candidates = 0;         // candidates examined (the thesis's bound tests)
     } raycls;
+    // Sorted lists (sorted_lists.hpp, Fournier and Poulin). Rays and triangle tests are counted in
+    // the top-level rays and triangle_tests.
+    struct Lists {
+        std::uint64_t events = 0;          // events treated: taken in ray order, plus those walked on opening a volume
+        std::uint64_t walked_events = 0;   // of these, walked on opening a volume (behind the point it was opened at)
+        std::uint64_t volumes_opened = 0;  // volumes entered on every axis (their child lists traversed)
+        std::uint64_t heap_ops = 0;        // pushes and pops of the list of next events (stale entries included)
+    } lists;
 
     QueryCounters& operator+=(const QueryCounters& o) {
         rays += o.rays;
@@ -122,6 +131,10 @@ struct QueryCounters {
         raycls.cache_hits += o.raycls.cache_hits;
         raycls.descent_steps += o.raycls.descent_steps;
         raycls.candidates += o.raycls.candidates;
+        lists.events += o.lists.events;
+        lists.walked_events += o.lists.walked_events;
+        lists.volumes_opened += o.lists.volumes_opened;
+        lists.heap_ops += o.lists.heap_ops;
         return *this;
     }
 };

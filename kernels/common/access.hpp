@@ -7,6 +7,7 @@
 #include "beamtrace/crsh.hpp"
 #include "beamtrace/kdtree.hpp"
 #include "beamtrace/mlrta.hpp"
+#include "beamtrace/sorted_lists.hpp"
 #include "beamtrace/vlf.hpp"
 
 namespace beamtrace::detail {
@@ -20,6 +21,7 @@ struct Access {
     static const DirectionSet::Impl& impl(const DirectionSet& set) { return *set.impl_; }
     static const VisibilityField::Impl& impl(const VisibilityField& field) { return *field.impl_; }
     static const Crsh::Impl& impl(const Crsh& crsh) { return *crsh.impl_; }
+    static const SortedLists::Impl& impl(const SortedLists& lists) { return *lists.impl_; }
 };
 
 }  // namespace beamtrace::detail

@@ -107,6 +107,30 @@ TEST(Cli, MlrtaAndKdSettingsAreChecked) {
     EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+TEST(Cli, ListsEnginesAndSettings) {
+    EXPECT_EQ(run("bench --scene tetra:1 --engines lists --lists-grid 0").exit_code, 2);
+    EXPECT_EQ(run("bench --scene tetra:1 --engines lists --lists-grid 2 2").exit_code, 2);
+    EXPECT_EQ(run("bench --scene tetra:1 --engines lists --lists-leaf 0").exit_code, 2);
+    EXPECT_EQ(run("bench --scene tetra:1 --engines lists --lists-special 1.5").exit_code, 2);
+    const fs::path json = temp_dir() / "lists.json";
+    const CommandResult r = run(
+        "bench --scene tetra:3 --engines lists,lists-flat --no-anchor-engines --width 32 --height 32 --repeats 1 "
+        "--lists-grid 3 2 2 --lists-leaf 2 --json " +
+        json.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    std::ifstream in(json);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    for (const char* e : {"lists", "lists-flat"}) {
+        EXPECT_EQ(j["engines"][e]["oracle"]["mismatch"], 0) << e;
+        for (const char* key : {"box_tests_per_ray", "triangle_tests_per_ray", "events_per_ray", "memory_bytes",
+                                "build_seconds"})
+            EXPECT_TRUE(j["engines"][e]["stats"].contains(key)) << e << " " << key;
+    }
+    EXPECT_EQ(j["engines"]["lists"]["stats"]["grid"], nlohmann::json::array({3, 2, 2}));
+    EXPECT_EQ(j["engines"]["lists"]["stats"]["leaf_objects"], 2);
+    EXPECT_EQ(j["engines"]["lists-flat"]["stats"]["volumes"], 1);
+}
+
 TEST(Cli, RenderWritesAPng) {
     const fs::path png = temp_dir() / "sub" / "picture.png";
     for (const char* shade : {"normal", "depth", "ao"}) {

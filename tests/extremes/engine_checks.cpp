@@ -20,6 +20,8 @@ std::vector<EngineUnderTest> build_engines(const Scene& scene, const EngineChoic
     if (choice.brute) names.push_back("brute");
     if (choice.vlf_fast) names.push_back("vlf-fast");
     if (choice.crsh) names.insert(names.end(), {"crsh", "rah"});
+    if (choice.lists) names.push_back("lists");
+    if (choice.lists && choice.brute) names.push_back("lists-flat");  // O(triangles) per ray, as brute
     std::vector<EngineUnderTest> engines;
     for (const std::string& name : names) {
         EngineUnderTest e;

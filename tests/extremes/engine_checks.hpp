@@ -3,7 +3,7 @@
 // sort every ray against the Embree oracle and against exact (double-precision) geometry.
 //
 // Exact engines (zero `mismatch` required): kd1, kd16, mlrta (grids of tiles when the rays form an
-// image, single packets otherwise), vlf (mode exact), brute, crsh and rah. vlf-fast is approximate: its
+// image, single packets otherwise), vlf (mode exact), brute, crsh, rah, lists and lists-flat. vlf-fast is approximate: its
 // tallies are printed, never asserted.
 #include <memory>
 #include <string>
@@ -25,10 +25,12 @@ struct EngineChoice {
     bool brute = true;  // only where the scene is small enough (the engine refuses > 100k triangles)
     bool vlf_fast = true;
     bool crsh = true;  // crsh and rah (one object: the scenes here carry no partition)
+    bool lists = true;  // lists, and lists-flat where brute is chosen
     workload::EngineOptions options;
 };
 
-// kd1, kd16, mlrta, vlf, then brute, vlf-fast, crsh and rah as chosen, each built for the scene.
+// kd1, kd16, mlrta, vlf, then brute, vlf-fast, crsh, rah, lists and lists-flat as chosen, each built
+// for the scene.
 std::vector<EngineUnderTest> build_engines(const Scene& scene, const EngineChoice& choice = {});
 
 // Rays packed 16 to a packet in the given order (no image: MLRTA traces them packet by packet).

@@ -202,7 +202,7 @@ TEST(Extremes, ScaleWhereFloatRunsOut) {
     // one packet MLRTA kept one AO hit; with the default tiles of 2x2 packets and more it does not)
     // and none is wrong; far from the origin the collapsed scene is traced exactly. If these change,
     // the range changed: update the doc.
-    constexpr std::uint64_t kExactEngines = 8;  // kd1, kd16, mlrta, vlf, stream, raycls, crsh, rah
+    constexpr std::uint64_t kExactEngines = 9;  // kd1, kd16, mlrta, vlf, stream, raycls, crsh, rah, lists
     EXPECT_EQ(records[0].lost, kExactEngines * records[0].hits);
     EXPECT_EQ(records[0].wrong, 0u);
     EXPECT_GT(records[1].lost + records[1].wrong, 0u);

@@ -28,6 +28,8 @@ struct BenchArgs {
     CrshSettings crsh;
     RayClsSettings raycls;
     double crsh_budget_millions = double(workload::EngineOptions::kDefaultCrshBudget) / 1e6;
+    std::vector<int> lists_grid = {2, 2, 2};
+    SortedListRules lists;
 };
 
 std::string bench_header(const workload::BenchResult& r) {
@@ -144,6 +146,15 @@ std::function<void()> add_bench_command(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
     add_raycls_options(*cmd, args->raycls);
+    cmd->add_option("--lists-grid", args->lists_grid,
+                    "lists: resolution of the grid that splits a volume, one number or three (x y z), each 1-16")
+        ->expected(1, 3);
+    cmd->add_option("--lists-leaf", args->lists.leaf_objects, "lists: volumes of at most this many objects are not split")
+        ->capture_default_str();
+    cmd->add_option("--lists-special", args->lists.special_cell_fraction,
+                    "lists: when every centre falls in one cell, objects at least this fraction of the volume on an "
+                    "axis go to its special cell")
+        ->capture_default_str();
     cmd->add_flag("--anchor-engines,!--no-anchor-engines", args->anchor_engines,
                   "time every Embree engine (embree1, embree16, embree-stream) even when --engines leaves it out, so "
                   "that the anchor, the fastest of them, is Embree at its best (default on; off: the anchor is the "
@@ -193,6 +204,11 @@ std::function<void()> add_bench_command(CLI::App& app) {
         bo.engine_options.crsh_budget = static_cast<std::uint64_t>(args->crsh_budget_millions * 1e6);
         args->raycls.validate();
         bo.engine_options.raycls = args->raycls;
+        if (args->lists_grid.size() == 2) throw Error("--lists-grid takes one number or three, not two");
+        for (int a = 0; a < 3; ++a)
+            args->lists.grid[a] = args->lists_grid[args->lists_grid.size() == 3 ? std::size_t(a) : 0];
+        args->lists.validate();
+        bo.engine_options.lists = args->lists;
         for (const std::string& e : bo.engines) workload::make_engine(e);  // reject unknown names before loading
         const workload::Workload w = workload::make_workload(wc);
         const workload::BenchResult result = workload::run_bench(w, bo);

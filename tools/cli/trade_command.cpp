@@ -69,7 +69,7 @@ std::function<void()> add_trade_command(CLI::App& app) {
     add_ray_options(*cmd, args->rays);
     std::string names;
     for (const std::string& n : workload::engine_names())
-        if (n != "brute" && n != "crsh" && n != "rah") names += (names.empty() ? "" : ", ") + n;
+        if (n != "brute" && n != "crsh" && n != "rah" && n != "lists" && n != "lists-flat") names += (names.empty() ? "" : ", ") + n;
     cmd->add_option("--engines", args->engines, "comma-separated engines to sweep (default: all of " + names + ")");
     cmd->add_option("--repeats", args->repeats, "timed passes per setting at least (the best is reported)")
         ->capture_default_str()

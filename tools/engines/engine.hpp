@@ -17,6 +17,7 @@
 #include "beamtrace/mlrta.hpp"
 #include "beamtrace/ray_classification.hpp"
 #include "beamtrace/scene.hpp"
+#include "beamtrace/sorted_lists.hpp"
 #include "beamtrace/stream.hpp"
 #include "beamtrace/vlf.hpp"
 #include "rays/ray_set.hpp"
@@ -46,6 +47,8 @@ struct EngineOptions {
     // raycls: depths, candidates, cache, light buffers, memory budget.
     RayClsSettings raycls;
     static constexpr std::uint64_t kDefaultCrshBudget = 1'000'000'000ull;
+    // lists, lists-flat: the hierarchy's rules (flat is the engine's).
+    SortedListRules lists;
 };
 
 // An engine's answers to a ray set's rays: per slot (packet * 16 + lane) for the comparison, the

@@ -8,7 +8,7 @@ const std::vector<std::string>& engine_names() {
     static const std::vector<std::string> names = {"embree1", "embree16", "embree-stream", "brute",   "kd1",
                                                    "kd16",    "mlrta",    "vlf",           "vlf-fast",
                                                    "stream",  "embree-sorted", "crsh",     "rah",
-                                                   "raycls"};
+                                                   "raycls",  "lists",    "lists-flat"};
     return names;
 }
 
@@ -27,6 +27,8 @@ std::unique_ptr<Engine> make_engine(const std::string& name) {
     if (name == "crsh") return make_crsh_engine(true);
     if (name == "rah") return make_crsh_engine(false);
     if (name == "raycls") return make_raycls_engine();
+    if (name == "lists") return make_lists_engine(false);
+    if (name == "lists-flat") return make_lists_engine(true);
     std::string known;
     for (const std::string& n : engine_names()) known += (known.empty() ? "" : ", ") + n;
     throw Error("unknown engine '" + name + "' (known: " + known + ")");

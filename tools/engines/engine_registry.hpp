@@ -26,6 +26,8 @@ nlohmann::json tree_json(const KdBuildStats& stats);
 std::unique_ptr<Engine> make_crsh_engine(bool sort);
 // raycls: ray classification (5D ray space, light buffers).
 std::unique_ptr<Engine> make_raycls_engine();
+// lists (the hierarchy of sorted lists) or lists-flat (one level).
+std::unique_ptr<Engine> make_lists_engine(bool flat);
 
 // The statistics kd16 and mlrta report alike (the paper's Tables 2 and 3): cells, entry-point
 // cells and intersections per packet and the other packet counters; and MLRTA's settings.

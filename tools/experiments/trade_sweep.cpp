@@ -131,7 +131,7 @@ std::vector<TradeSetting> trade_settings(const Workload& w, const TradeOptions& 
     std::vector<std::string> engines = options.engines;
     if (engines.empty())
         for (const std::string& e : engine_names())
-            if (e != "brute" && e != "crsh" && e != "rah") engines.push_back(e);
+            if (e != "brute" && e != "crsh" && e != "rah" && e != "lists" && e != "lists-flat") engines.push_back(e);
     for (const std::string& e : engines) make_engine(e);  // unknown names fail here
     std::set<std::string> wanted(engines.begin(), engines.end());
     if (options.anchor_engines) wanted.insert(anchor_engines().begin(), anchor_engines().end());
