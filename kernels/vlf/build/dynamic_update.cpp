@@ -101,6 +101,8 @@ void VisibilityField::insert(std::span<const std::uint32_t> ids) {
     }
     const std::vector<std::uint32_t> own = field_indices(f, ids);
     const vlf::SubfieldInput input = f.input();
+    // Lazy tiles find their triangles through the tree: its boxes follow the moved corners.
+    if (f.options.lazy_tiles) f.tile_cache->tree.build(f.triangles, f.present);
     each_built_psf(f, [&](vlf::ParallelSubfield& psf) { psf.insert(own, input); });
 }
 

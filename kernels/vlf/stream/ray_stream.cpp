@@ -66,6 +66,8 @@ void pipeline(const VisibilityField::Impl& f, std::size_t groups, Fill&& fill, W
         if (g + 3 < groups) begin(g + 3);
         if (g + 2 < groups) vlf::prefetch_first_blocks(at(g + 2).start);
         walk(at(g));
+        // Between walks no tile is held (groups ahead hold PSFs and prefetched addresses only).
+        if ((g & 3) == 3) f.quiescent();
     }
 }
 
@@ -144,6 +146,7 @@ void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, W
             counting_sort(bin, scratch.data(), n, counts, [n](const BinnedRay& r) { return r.tile % n; });
             counting_sort(scratch, bin.data(), n, counts, [n](const BinnedRay& r) { return r.tile / n; });
         }
+        f.quiescent();
         trace_bin(f, bin, walk);
     }
 }
@@ -154,6 +157,7 @@ void VisibilityField::intersect(std::span<const Packet16> packets, std::span<Pac
                                 VlfOrder order) const {
     check_query("VisibilityField::intersect", packets.size(), hits.size(), QueryOptions{});
     const Impl& f = *impl_;
+    const auto guard = f.reading();
     if (order == VlfOrder::automatic) order = VlfOrder::input;  // camera packets
     auto closest = [&](const Group& g, int i) {
         return vlf::walk_field<false, false>(f, *g.start.psf[i], g.start.lookup.ray(i),
@@ -182,6 +186,7 @@ void VisibilityField::occluded(std::span<const Packet16> packets, std::span<std:
     if (order == VlfOrder::automatic) order = VlfOrder::psf;  // incoherent secondary rays
     for (std::uint32_t& bits : occluded) bits = 0;
     const Impl& f = *impl_;
+    const auto guard = f.reading();
     auto walk = [&](const Group& g) {
         for (std::uint32_t m = g.start.lookup.valid; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
