@@ -157,6 +157,11 @@ public:
     void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded, VlfMode mode,
                   VlfOrder order = VlfOrder::psf) const;
 
+    // What a field of `triangles` triangles with these options holds before any tile is built, with
+    // lazy tiles and every PSF's tile table allocated: a memory budget must exceed it (by 64 KiB at
+    // least; under a budget an eighth of it, where it can be spared, goes to binned streams).
+    static std::size_t fixed_memory_bytes(std::size_t triangles, const VlfOptions& options);
+
     // Builds every PSF (with lazy tiles: every tile) not built yet (TBB, all cores), reporting
     // progress in [0, 1]. Throws beamtrace::Error under a memory budget.
     void build_all(const Progress& progress = {});

@@ -1,5 +1,6 @@
 // VisibilityField: options, construction, lazy (or eager) PSF builds, single-ray queries, statistics.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <string>
 
@@ -34,7 +35,10 @@ void VlfOptions::validate() const {
     }
 }
 
-VisibilityField::Impl::~Impl() = default;
+VisibilityField::Impl::~Impl() {
+    tile_cache->release_all();  // at once, not PSF by PSF
+    psfs.clear();
+}
 
 VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o)
     : options(o), directions((o.validate(), o.directions)) {
@@ -65,8 +69,7 @@ VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o)
     kernels = &triangle_kernels();
     std::size_t tile_budget = 0;
     if (o.memory_budget_bytes > 0) {
-        const std::size_t fixed = base_bytes() + psfs.size() * psf_table_bytes() +
-                                  (count + vlf::TriangleBoxTree::kLeaf - 1) / vlf::TriangleBoxTree::kLeaf * 2 * 24;
+        const std::size_t fixed = base_bytes() + psfs.size() * psf_table_bytes() + tree_bytes(count);
         // Tiles get what the fixed part leaves: at least 64 KiB.
         if (o.memory_budget_bytes < fixed + (std::size_t(1) << 16))
             throw Error("VLF memory budget of " + std::to_string(o.memory_budget_bytes / (1 << 20)) +
@@ -74,6 +77,9 @@ VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o)
                         "per tile of every PSF) takes " +
                         std::to_string(fixed / (1 << 20)) + " MiB, and tiles need at least 64 KiB more");
         tile_budget = o.memory_budget_bytes - fixed;
+        // The streams' share (stream_packets), where the budget is large enough to spare it.
+        const std::size_t streams = o.memory_budget_bytes / kStreamShare;
+        if (tile_budget > 2 * streams) tile_budget -= streams;
     }
     tile_cache = std::make_unique<vlf::TileCache>(tile_budget);
     if (o.lazy_tiles) tile_cache->tree.build(triangles, present);
@@ -126,6 +132,21 @@ const vlf::ParallelSubfield& VisibilityField::Impl::build(std::uint32_t i) const
 std::size_t VisibilityField::Impl::base_bytes() const {
     return directions.memory_bytes() + triangles.size() * (2 * sizeof(Triangle) + 2 + 8) +
            frames.size() * sizeof(vlf::CanonicalFrame);
+}
+
+std::size_t VisibilityField::Impl::tree_bytes(std::size_t triangles) {
+    const std::size_t runs = std::max<std::size_t>(1, (triangles + vlf::TriangleBoxTree::kLeaf - 1) / vlf::TriangleBoxTree::kLeaf);
+    return 2 * std::bit_ceil(runs) * 6 * sizeof(float);
+}
+
+std::size_t VisibilityField::fixed_memory_bytes(std::size_t triangles, const VlfOptions& o) {
+    o.validate();
+    const DirectionSet d(o.directions);
+    const std::size_t tiles = std::size_t(o.tiles) * std::size_t(o.tiles);
+    return d.memory_bytes() + triangles * (2 * sizeof(Triangle) + 2 + 8) +
+           std::size_t(o.directions) * (sizeof(vlf::CanonicalFrame) + sizeof(vlf::ParallelSubfield) +
+                                        tiles * (sizeof(std::atomic<std::uint32_t*>) + 1)) +
+           Impl::tree_bytes(triangles);
 }
 
 std::size_t VisibilityField::Impl::psf_table_bytes() const {

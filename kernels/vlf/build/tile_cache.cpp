@@ -109,6 +109,13 @@ void TileCache::rebuild_now(const ParallelSubfield& psf, std::uint32_t index) {
 }
 
 void TileCache::release(const ParallelSubfield& psf) {
+    const std::size_t tiles = std::size_t(psf.grid_.n) * std::size_t(psf.grid_.n);
+    bool held = false;
+    for (std::size_t t = 0; t < tiles && !held; ++t) {
+        const std::uint32_t* h = psf.lazy_[t].load(std::memory_order_relaxed);
+        held = h && h[0];
+    }
+    if (!held) return;  // release_all ran first (the field's destruction), or nothing was built
     std::lock_guard<std::mutex> lock(lru_);
     std::erase_if(resident_, [&](const Resident& r) {
         if (r.psf != &psf) return false;
@@ -122,6 +129,18 @@ void TileCache::release(const ParallelSubfield& psf) {
         psf.lazy_[r.index].store(nullptr, std::memory_order_relaxed);
         return true;
     });
+}
+
+void TileCache::release_all() {
+    std::lock_guard<std::mutex> lock(lru_);
+    for (const Resident& r : resident_) {
+        delete[] r.psf->lazy_[r.index].load(std::memory_order_relaxed);
+        r.psf->lazy_[r.index].store(nullptr, std::memory_order_relaxed);
+    }
+    resident_.clear();
+    live_.store(0);
+    entries_.store(0);
+    leaves_.store(0);
 }
 
 void TileCache::evict_locked(std::size_t keep_last) {

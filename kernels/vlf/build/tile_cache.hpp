@@ -66,6 +66,8 @@ public:
     void rebuild_now(const ParallelSubfield& psf, std::uint32_t index);
     // Frees every block of psf (its destruction); no query may run.
     void release(const ParallelSubfield& psf);
+    // Frees every resident block (before the PSFs go: the field's destruction).
+    void release_all();
 
     // The tree lazy builds query, and what they read (set by the field, refreshed by updates).
     TriangleBoxTree tree;

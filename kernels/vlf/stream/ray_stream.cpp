@@ -172,12 +172,17 @@ void VisibilityField::intersect(std::span<const Packet16> packets, std::span<Pac
     }
     for (PacketHits16& h : hits)
         for (int i = 0; i < 16; ++i) h.set_hit(i, Hit{});
-    binned(f, packets, [&](const Group& g) {
-        for (std::uint32_t m = g.start.lookup.valid; m; m &= m - 1) {
-            const int i = __builtin_ctz(m);
-            hits[g.slots[i] / 16].set_hit(int(g.slots[i] % 16), closest(g, i));
-        }
-    });
+    // Under a memory budget, binned in parts whose bins take at most the budget's stream share.
+    const std::size_t part = f.stream_packets();
+    for (std::size_t first = 0; first < packets.size(); first += part) {
+        const std::size_t count = std::min(part, packets.size() - first);
+        binned(f, packets.subspan(first, count), [&](const Group& g) {
+            for (std::uint32_t m = g.start.lookup.valid; m; m &= m - 1) {
+                const int i = __builtin_ctz(m);
+                hits[first + g.slots[i] / 16].set_hit(int(g.slots[i] % 16), closest(g, i));
+            }
+        });
+    }
 }
 
 void VisibilityField::occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded, VlfMode mode,
@@ -198,9 +203,24 @@ void VisibilityField::occluded(std::span<const Packet16> packets, std::span<std:
     };
     if (order == VlfOrder::input) return in_order(f, packets, walk);
     // Binned: rays whose segment stays in one tile in batches (tile_ray_stream.hpp), the others walk.
+    // Under a memory budget, in parts whose bins take at most the budget's stream share.
     vlf::TileRayLease lease(f);
-    binned(f, packets, walk, &lease.bins(), mode);
-    lease.bins().trace(f, occluded);
+    const std::size_t part = f.stream_packets();
+    for (std::size_t first = 0; first < packets.size(); first += part) {
+        const std::size_t count = std::min(part, packets.size() - first);
+        const std::span<std::uint32_t> out = occluded.subspan(first, count);
+        auto walk_part = [&](const Group& g) {
+            for (std::uint32_t m = g.start.lookup.valid; m; m &= m - 1) {
+                const int i = __builtin_ctz(m);
+                if (vlf::walk_field<true, false>(f, *g.start.psf[i], g.start.lookup.ray(i),
+                                                 g.start.lookup.watertight(i, *g.packet), mode, nullptr)
+                        .hit())
+                    out[g.slots[i] / 16] |= 1u << (g.slots[i] % 16);
+            }
+        };
+        binned(f, packets.subspan(first, count), walk_part, &lease.bins(), mode);
+        lease.bins().trace(f, out);
+    }
 }
 
 }  // namespace beamtrace
