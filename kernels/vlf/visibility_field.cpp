@@ -82,7 +82,7 @@ VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o)
         if (tile_budget > 2 * streams) tile_budget -= streams;
     }
     tile_cache = std::make_unique<vlf::TileCache>(tile_budget);
-    if (o.lazy_tiles) tile_cache->tree.build(triangles, present);
+    if (o.lazy_tiles) tile_cache->refit(triangles, present);
     // The packet lookup's tables.
     const DirectionSet::Impl& d = detail::Access::impl(directions);
     const std::size_t l = frames.size();

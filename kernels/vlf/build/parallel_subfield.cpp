@@ -109,33 +109,64 @@ std::uint32_t* ParallelSubfield::make_block(std::span<const DepthItem> items, Ti
 }
 
 std::uint32_t* ParallelSubfield::make_tile(std::uint32_t index) const {
+    // Candidates are looked up for a strip of kStrip tiles of one row at a time and kept, with their
+    // canonical corners and x ranges, for the strip's other tiles: a binned stream builds the tiles
+    // it reaches row by row, so one tree query and one rotation of each triangle serve several tiles.
+    // The strip's key includes the tree's generation (a new field, or triangles moved, starts over).
+    constexpr int kStrip = 8;
     struct Scratch {
         int depth = -1;
         std::unique_ptr<TileBspBuilder> bsp;
         std::vector<DepthItem> items;
         std::vector<std::uint32_t> block;
+        std::uint64_t generation = 0;
+        const ParallelSubfield* psf = nullptr;
+        int row = -1, strip = -1;
+        std::vector<std::uint32_t> ids;
+        std::vector<Vec3d> corners;  // 3 per id
+        std::vector<double> xlo, xhi;
     };
     thread_local Scratch s;
     if (!s.bsp || s.depth != depth_) {
         s.bsp = std::make_unique<TileBspBuilder>(depth_);
         s.depth = depth_;
     }
-    const int c = int(index % std::uint32_t(grid_.n)), r = int(index / std::uint32_t(grid_.n));
+    const int n = grid_.n;
+    const int c = int(index % std::uint32_t(n)), r = int(index / std::uint32_t(n));
     const Prism box = prism(c, r);
     const FootprintLattice lattice = FootprintLattice::of_tile(grid_, c, r);
-    // Candidates: the triangles whose boxes may reach the padded tile (a hair wider than the
+    // Candidates: the triangles whose boxes may reach the padded tiles (a hair wider than the
     // rasteriser's reach, whose cells are floors of the same coordinates).
     const double margin = grid_.pad + 1e-7 * grid_.radius;
+    if (s.generation != cache_->generation() || s.psf != this || s.row != r || s.strip != c / kStrip) {
+        s.generation = cache_->generation();
+        s.psf = this;
+        s.row = r;
+        s.strip = c / kStrip;
+        s.ids.clear();
+        s.corners.clear();
+        s.xlo.clear();
+        s.xhi.clear();
+        const int c0 = s.strip * kStrip, c1 = std::min(n - 1, c0 + kStrip - 1);
+        cache_->tree.query(frame_, grid_.centre, prism(c0, r).x0 - margin, prism(c1, r).x1 + margin, box.y0 - margin,
+                           box.y1 + margin, [&](std::uint32_t id) {
+                               Vec3d v[3];
+                               corners(input_, id, v);
+                               s.ids.push_back(id);
+                               s.corners.insert(s.corners.end(), v, v + 3);
+                               s.xlo.push_back(std::min({v[0].x, v[1].x, v[2].x}));
+                               s.xhi.push_back(std::max({v[0].x, v[1].x, v[2].x}));
+                           });
+    }
     s.items.clear();
-    cache_->tree.query(frame_, grid_.centre, box.x0 - margin, box.x1 + margin, box.y0 - margin, box.y1 + margin,
-                       [&](std::uint32_t id) {
-                           Vec3d v[3];
-                           corners(input_, id, v);
-                           if (!TileRasteriser::touches(grid_, v, c, r)) return;
-                           ClippedBox clipped;
-                           if (clip_to_prism(v, box, clipped))
-                               s.items.push_back(depth_item(id, clipped, lattice, grid_.pad));
-                       });
+    for (std::size_t k = 0; k < s.ids.size(); ++k) {
+        // Outside the tile's reach in x (TileRasteriser::touches would say no), or removed since.
+        if (s.xhi[k] + margin < box.x0 || s.xlo[k] - margin > box.x1 || !input_.present[s.ids[k]]) continue;
+        const Vec3d* v = &s.corners[3 * k];
+        if (!TileRasteriser::touches(grid_, v, c, r)) continue;
+        ClippedBox clipped;
+        if (clip_to_prism(v, box, clipped)) s.items.push_back(depth_item(s.ids[k], clipped, lattice, grid_.pad));
+    }
     return make_block(s.items, *s.bsp, s.block);
 }
 

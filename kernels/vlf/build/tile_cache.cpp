@@ -25,7 +25,14 @@ std::size_t block_bytes(const std::uint32_t* h) {
 
 }  // namespace
 
+static std::atomic<std::uint64_t> generations{0};
+
 std::uint32_t* empty_tile_header() { return empty_header; }
+
+void TileCache::refit(std::span<const Triangle> triangles, std::span<const std::uint8_t> present) {
+    tree.build(triangles, present);
+    generation_ = generations.fetch_add(1) + 1;
+}
 
 TileCache::TileCache(std::size_t budget_bytes)
     : budget_(budget_bytes),

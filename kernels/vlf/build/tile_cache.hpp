@@ -69,8 +69,11 @@ public:
     // Frees every resident block (before the PSFs go: the field's destruction).
     void release_all();
 
-    // The tree lazy builds query, and what they read (set by the field, refreshed by updates).
+    // The tree lazy builds query (set by the field, refit after updates through refit()), and a
+    // number no other tree state of any cache had: builds keep per-thread candidates under it.
     TriangleBoxTree tree;
+    void refit(std::span<const Triangle> triangles, std::span<const std::uint8_t> present);
+    std::uint64_t generation() const { return generation_; }
 
     // ---- readers ----
     class ReadGuard {
@@ -115,6 +118,7 @@ private:
     void account(std::int64_t bytes);  // to bytes_ (and peak_)
 
     std::size_t budget_;
+    std::uint64_t generation_ = 0;
     std::atomic<std::uint32_t> clock_{1};
     std::atomic<std::uint64_t> epoch_{1};
     std::unique_ptr<std::atomic<std::uint64_t>[]> slots_;  // 0: free
