@@ -40,6 +40,8 @@ foreach(source
     vlf/directions/direction_set.cpp
     vlf/build/tile_bsp.cpp
     vlf/build/parallel_subfield.cpp
+    vlf/build/tile_cache.cpp
+    vlf/build/triangle_box_tree.cpp
     vlf/visibility_field.cpp
     vlf/stream/packet_query.cpp
     vlf/stream/ray_stream.cpp

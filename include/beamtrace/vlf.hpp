@@ -72,6 +72,14 @@ struct VlfOptions {
     int tiles = 128;                               // n: n x n tiles per PSF
     int depth = 4;                                 // d: tile-BSP depth, 0 = one leaf per tile
     bool eager = false;                            // build every PSF now (else each on first use)
+    // Lazy tiles: a PSF builds each tile (its triangles and tile-BSP) the first time a ray reaches
+    // it, not the whole PSF on its first use. The same tiles, word for word, and the same answers.
+    bool lazy_tiles = true;
+    // Bytes the field may hold (0 = unbounded): tiles, the least recently used first, are freed when
+    // building another would exceed it, and rebuilt when a ray needs them again. Needs lazy tiles
+    // and no eager build; must exceed the field's fixed part (triangles, direction tables, one
+    // pointer per tile of every PSF).
+    std::size_t memory_budget_bytes = 0;
     VlfMode mode = VlfMode::exact;                 // of the query contract's calls
     VlfOrder order = VlfOrder::automatic;          // of the query contract's span calls
     // The volume triangles may occupy, now and after dynamic updates. Default: the scene's box.
@@ -89,6 +97,12 @@ struct VlfStats {
     std::size_t memory_bytes = 0;  // built PSFs, direction table, the field's copy of the triangles
     std::size_t stream_bytes = 0;  // buffers of binned occlusion streams, kept for the next stream
     double build_seconds = 0.0;    // over every PSF built so far (lazy builds included)
+    // Lazy tiles (tile_entries and leaves above then count resident tiles only):
+    std::size_t memory_peak_bytes = 0;  // the most memory_bytes has been (evicted tiles awaiting release included)
+    std::size_t tiles_built = 0;        // tile builds, rebuilds after eviction included (empty tiles too)
+    std::size_t tiles_evicted = 0;      // tiles freed under the memory budget
+    std::size_t tiles_resident = 0;     // non-empty tiles held now
+    double rebuild_seconds = 0.0;       // part of build_seconds spent rebuilding evicted tiles
 };
 
 // A 3x4 affine map p -> m * p + t (row-major m), applied to triangle corners in float.
@@ -143,7 +157,13 @@ public:
     void occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded, VlfMode mode,
                   VlfOrder order = VlfOrder::psf) const;
 
-    // Builds every PSF not built yet (TBB, all cores), reporting progress in [0, 1].
+    // What a field of `triangles` triangles with these options holds before any tile is built, with
+    // lazy tiles and every PSF's tile table allocated: a memory budget must exceed it (by 64 KiB at
+    // least; under a budget an eighth of it, where it can be spared, goes to binned streams).
+    static std::size_t fixed_memory_bytes(std::size_t triangles, const VlfOptions& options);
+
+    // Builds every PSF (with lazy tiles: every tile) not built yet (TBB, all cores), reporting
+    // progress in [0, 1]. Throws beamtrace::Error under a memory budget.
     void build_all(const Progress& progress = {});
 
     // Dynamic scenes (section 8): take triangles out of every built PSF, move them, put them back.

@@ -1,5 +1,6 @@
 // VisibilityField: options, construction, lazy (or eager) PSF builds, single-ray queries, statistics.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <string>
 
@@ -11,6 +12,7 @@
 #include "vlf/directions/direction_set_impl.hpp"
 #include "vlf/query/field_query.hpp"
 #include "vlf/build/spatial_order.hpp"
+#include "vlf/build/tile_cache.hpp"
 #include "vlf/stream/tile_ray_stream.hpp"
 
 namespace beamtrace {
@@ -21,6 +23,10 @@ void VlfOptions::validate() const {
         throw Error("VLF tiles per side must be between 1 and 1024 (got " + std::to_string(tiles) + ")");
     if (depth < 0 || depth > 16)
         throw Error("VLF tile-BSP depth must be between 0 and 16 (got " + std::to_string(depth) + ")");
+    if (memory_budget_bytes > 0 && !lazy_tiles)
+        throw Error("a VLF memory budget needs lazy tiles (VlfOptions::lazy_tiles)");
+    if (memory_budget_bytes > 0 && eager)
+        throw Error("a VLF memory budget cannot be combined with an eager build (--vlf-eager builds every tile)");
     if (bounds) {
         const Box& b = *bounds;
         for (int k = 0; k < 3; ++k)
@@ -29,7 +35,10 @@ void VlfOptions::validate() const {
     }
 }
 
-VisibilityField::Impl::~Impl() = default;
+VisibilityField::Impl::~Impl() {
+    tile_cache->release_all();  // at once, not PSF by PSF
+    psfs.clear();
+}
 
 VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o)
     : options(o), directions((o.validate(), o.directions)) {
@@ -58,6 +67,22 @@ VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o)
     for (std::size_t i = 0; i < psfs.size(); ++i) ready[i].store(nullptr, std::memory_order_relaxed);
     build_locks = std::make_unique<std::mutex[]>(psfs.size());
     kernels = &triangle_kernels();
+    std::size_t tile_budget = 0;
+    if (o.memory_budget_bytes > 0) {
+        const std::size_t fixed = base_bytes() + psfs.size() * psf_table_bytes() + tree_bytes(count);
+        // Tiles get what the fixed part leaves: at least 64 KiB.
+        if (o.memory_budget_bytes < fixed + (std::size_t(1) << 16))
+            throw Error("VLF memory budget of " + std::to_string(o.memory_budget_bytes / (1 << 20)) +
+                        " MiB is too small for this field: its fixed part (triangles, direction tables, one pointer "
+                        "per tile of every PSF) takes " +
+                        std::to_string(fixed / (1 << 20)) + " MiB, and tiles need at least 64 KiB more");
+        tile_budget = o.memory_budget_bytes - fixed;
+        // The streams' share (stream_packets), where the budget is large enough to spare it.
+        const std::size_t streams = o.memory_budget_bytes / kStreamShare;
+        if (tile_budget > 2 * streams) tile_budget -= streams;
+    }
+    tile_cache = std::make_unique<vlf::TileCache>(tile_budget);
+    if (o.lazy_tiles) tile_cache->refit(triangles, present);
     // The packet lookup's tables.
     const DirectionSet::Impl& d = detail::Access::impl(directions);
     const std::size_t l = frames.size();
@@ -96,9 +121,37 @@ VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o)
 const vlf::ParallelSubfield& VisibilityField::Impl::build(std::uint32_t i) const {
     std::lock_guard<std::mutex> lock(build_locks[i]);
     if (const vlf::ParallelSubfield* p = ready[i].load(std::memory_order_acquire)) return *p;
-    psfs[i] = std::make_unique<vlf::ParallelSubfield>(frames[i], input());
+    if (options.lazy_tiles)
+        psfs[i] = std::make_unique<vlf::ParallelSubfield>(frames[i], input(), *tile_cache);
+    else
+        psfs[i] = std::make_unique<vlf::ParallelSubfield>(frames[i], input());
     ready[i].store(psfs[i].get(), std::memory_order_release);
     return *psfs[i];
+}
+
+std::size_t VisibilityField::Impl::base_bytes() const {
+    return directions.memory_bytes() + triangles.size() * (2 * sizeof(Triangle) + 2 + 8) +
+           frames.size() * sizeof(vlf::CanonicalFrame);
+}
+
+std::size_t VisibilityField::Impl::tree_bytes(std::size_t triangles) {
+    const std::size_t runs = std::max<std::size_t>(1, (triangles + vlf::TriangleBoxTree::kLeaf - 1) / vlf::TriangleBoxTree::kLeaf);
+    return 2 * std::bit_ceil(runs) * 6 * sizeof(float);
+}
+
+std::size_t VisibilityField::fixed_memory_bytes(std::size_t triangles, const VlfOptions& o) {
+    o.validate();
+    const DirectionSet d(o.directions);
+    const std::size_t tiles = std::size_t(o.tiles) * std::size_t(o.tiles);
+    return d.memory_bytes() + triangles * (2 * sizeof(Triangle) + 2 + 8) +
+           std::size_t(o.directions) * (sizeof(vlf::CanonicalFrame) + sizeof(vlf::ParallelSubfield) +
+                                        tiles * (sizeof(std::atomic<std::uint32_t*>) + 1)) +
+           Impl::tree_bytes(triangles);
+}
+
+std::size_t VisibilityField::Impl::psf_table_bytes() const {
+    const std::size_t tiles = std::size_t(grid.n) * std::size_t(grid.n);
+    return sizeof(vlf::ParallelSubfield) + tiles * (sizeof(std::atomic<std::uint32_t*>) + 1);
 }
 
 namespace {
@@ -110,6 +163,7 @@ Hit trace(const VisibilityField::Impl& f, const Ray& ray, VlfMode mode, QueryCou
     const float s = std::fabs(ray.dir.x) + std::fabs(ray.dir.y) + std::fabs(ray.dir.z);
     if (!(s > 0.0f && s < kInfinity)) return Hit{};
     const DirectionSet::Nearest nearest = detail::Access::impl(f.directions).nearest(ray.dir.x, ray.dir.y, ray.dir.z);
+    const auto guard = f.reading();
     vlf::CanonicalRay cr;
     if (!vlf::make_canonical_ray(f.frames[nearest.index], f.grid, f.world_box, ray, cr)) return Hit{};
     return vlf::walk_field<kOcclusion, kCount>(f, f.psf(nearest.index), cr, make_watertight_ray(ray), mode, counters);
@@ -140,12 +194,15 @@ bool VisibilityField::occluded(const Ray& ray, VlfMode mode, QueryCounters& c) c
 
 void VisibilityField::build_all(const Progress& progress) {
     const Impl& f = *impl_;
+    if (f.options.memory_budget_bytes > 0)
+        throw Error("VisibilityField::build_all: the field has a memory budget; its tiles are built as rays need them");
     const std::size_t count = f.psfs.size();
     std::atomic<std::size_t> done{0};
     std::mutex report;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            f.psf(std::uint32_t(i));
+            const vlf::ParallelSubfield& p = f.psf(std::uint32_t(i));
+            if (p.lazy()) p.build_all_tiles();
             const std::size_t k = ++done;
             if (progress) {
                 std::lock_guard<std::mutex> lock(report);
@@ -168,8 +225,7 @@ VlfStats VisibilityField::stats() const {
     s.directions = f.options.directions;
     s.tiles = f.options.tiles;
     s.depth = f.options.depth;
-    s.memory_bytes = f.directions.memory_bytes() + f.triangles.size() * (2 * sizeof(Triangle) + 2 + 8) +
-                     f.frames.size() * sizeof(vlf::CanonicalFrame);
+    s.memory_bytes = f.base_bytes();
     f.for_each_built([&](std::size_t, const vlf::ParallelSubfield& p) {
         ++s.psfs_built;
         s.tile_entries += p.entries();
@@ -177,6 +233,17 @@ VlfStats VisibilityField::stats() const {
         s.memory_bytes += p.memory_bytes();
         s.build_seconds += p.build_seconds();
     });
+    const vlf::TileCacheStats t = f.tile_cache->stats();
+    s.tile_entries += t.entries;
+    s.leaves += t.leaves;
+    s.build_seconds += t.build_seconds;
+    s.tiles_built = t.tiles_built;
+    s.tiles_evicted = t.tiles_evicted;
+    s.tiles_resident = t.resident_tiles;
+    s.rebuild_seconds = t.rebuild_seconds;
+    // Whole PSFs and tile tables only grow; tiles are tracked at their peak.
+    s.memory_peak_bytes = s.memory_bytes + f.tile_cache->tree.memory_bytes() + t.peak_tile_bytes;
+    s.memory_bytes += f.tile_cache->memory_bytes();
     {
         std::lock_guard<std::mutex> lock(f.stream_bins_lock);
         for (const auto& b : f.stream_bins) s.stream_bytes += b->bytes();

@@ -40,6 +40,9 @@ struct VisibilityField::Impl {
     vlf::LookupStorage lookup;              // what the packet lookup reads
     const vlf::VlfKernels* simd = nullptr;  // packet lookup and footprint scan
 
+    // Lazy tiles' blocks, their budget and their readers (tile_cache.hpp); always there (without
+    // lazy tiles or a budget its guards do nothing). Before psfs: it outlives them.
+    std::unique_ptr<vlf::TileCache> tile_cache;
     // PSF i, once built, is psfs[i]; ready[i] publishes it to queries without a lock.
     mutable std::vector<std::unique_ptr<vlf::ParallelSubfield>> psfs;
     mutable std::unique_ptr<std::atomic<const vlf::ParallelSubfield*>[]> ready;
@@ -60,6 +63,20 @@ struct VisibilityField::Impl {
         return build(i);
     }
     const vlf::ParallelSubfield& build(std::uint32_t i) const;
+    // What every PSF costs before any tile is built, and the field without PSFs.
+    std::size_t base_bytes() const;
+    std::size_t psf_table_bytes() const;
+    static std::size_t tree_bytes(std::size_t triangles);  // an upper bound for TriangleBoxTree
+    // Around a query (a no-op without a budget) and where a reader holds no tile (tile_cache.hpp).
+    vlf::TileCache::ReadGuard reading() const { return vlf::TileCache::ReadGuard(*tile_cache); }
+    void quiescent() const { tile_cache->quiescent(); }
+    // Under a memory budget an eighth of it goes to the buffers of binned streams (about 80 bytes
+    // a ray: bins, keys, sorted copies), which then take at most this many packets at a time.
+    static constexpr std::size_t kStreamShare = 8, kStreamBytesPerRay = 80;
+    std::size_t stream_packets() const {
+        if (options.memory_budget_bytes == 0) return ~std::size_t(0) / 2;
+        return std::max<std::size_t>(1024, options.memory_budget_bytes / kStreamShare / kStreamBytesPerRay / 16);
+    }
     // The built PSFs (for updates and statistics).
     template <class F>
     void for_each_built(F&& f) const {

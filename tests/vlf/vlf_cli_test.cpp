@@ -89,3 +89,38 @@ TEST(VlfCli, RendersAnAmbientOcclusionPicture) {
     EXPECT_TRUE(fs::exists(png));
     EXPECT_GT(fs::file_size(png), 100u);
 }
+
+TEST(VlfCli, MemoryBudgetTakesSizesAndReportsItsStats) {
+    const fs::path json = temp_dir() / "budget.json";
+    const CommandResult r =
+        run("bench --scene tetra:4 --mode ao --ao-dirs psf --ao-rays 16 --engines vlf --vlf-dirs 33 --vlf-tiles 32 "
+            "--width 48 --height 48 --repeats 2 --vlf-memory 2M --json " +
+            json.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json j = read_json(json);
+    const nlohmann::json& e = j["engines"]["vlf"];
+    EXPECT_EQ(e["oracle"]["mismatch"], 0);
+    const nlohmann::json& s = e["stats"];
+    EXPECT_EQ(s["memory_budget_bytes"].get<std::size_t>(), std::size_t(2) << 20);
+    EXPECT_EQ(s["lazy_tiles"], true);
+    EXPECT_GT(s["tiles_built"].get<std::size_t>(), 0u);
+    EXPECT_GT(s["memory_peak_bytes"].get<std::size_t>(), 0u);
+    EXPECT_LE(s["memory_peak_bytes"].get<std::size_t>(), (std::size_t(2) << 20) + (std::size_t(2) << 17));
+    for (const char* field : {"tiles_evicted", "tiles_resident", "rebuild_seconds"})
+        EXPECT_TRUE(s.contains(field)) << field;
+}
+
+TEST(VlfCli, BadMemoryBudgetsAreOneLineAndExitTwo) {
+    for (const char* value : {"2X", "G", "1.5", "abc", "2GG", "1e9"}) {
+        const CommandResult r =
+            run(std::string("bench --scene tetra:2 --engines vlf --width 8 --height 8 --vlf-memory ") + value);
+        EXPECT_EQ(r.exit_code, 2) << value << ": " << r.output;
+        EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << value << ": " << r.output;
+        EXPECT_NE(r.output.find("--vlf-memory"), std::string::npos) << value << ": " << r.output;
+    }
+    for (const char* args : {"--vlf-memory 1K", "--vlf-memory 1G --vlf-eager", "--vlf-memory 1G --no-vlf-lazy-tiles"}) {
+        const CommandResult r = run(std::string("bench --scene tetra:2 --engines vlf --width 8 --height 8 ") + args);
+        EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
+        EXPECT_NE(r.output.find("budget"), std::string::npos) << args << ": " << r.output;
+    }
+}

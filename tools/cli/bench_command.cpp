@@ -22,6 +22,7 @@ struct BenchArgs {
     StreamSettings stream;
     std::string ao_dirs = "random";
     std::string vlf_order = "auto";
+    std::string vlf_memory = "0";
     KdBuildRules kd;
     bool anchor_engines = true;
     bool embree_robust = true;
@@ -117,6 +118,13 @@ std::function<void()> add_bench_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_flag("--vlf-eager", args->vlf.eager,
                   "vlf: build every parallel subfield before tracing (default: on first use)");
+    cmd->add_flag("--vlf-lazy-tiles,!--no-vlf-lazy-tiles", args->vlf.lazy_tiles,
+                  "vlf: build each tile the first time a ray reaches it (default on; off: a whole parallel subfield "
+                  "on its first use, the same answers)");
+    cmd->add_option("--vlf-memory", args->vlf_memory,
+                    "vlf: memory budget of the field, e.g. 2G or 512M (0 = unbounded): the least recently used tiles "
+                    "are freed and rebuilt when needed (docs/vlf.md)")
+        ->capture_default_str();
     cmd->add_option("--vlf-order", args->vlf_order,
                     "vlf: trace rays as given (input), binned by PSF (psf), or binned for occlusion rays only (auto)")
         ->capture_default_str();
@@ -190,6 +198,7 @@ std::function<void()> add_bench_command(CLI::App& app) {
         kd.tiny_cell_rule = kd.tiny_cell_min_area_fraction > 0.0f;
         kd.validate();
         bo.engine_options.kd_rules = kd;
+        args->vlf.memory_budget_bytes = parse_byte_size(args->vlf_memory, "--vlf-memory");
         args->vlf.validate();
         if (args->vlf_order != "input" && args->vlf_order != "psf" && args->vlf_order != "auto")
             throw Error("--vlf-order must be input, psf or auto, not '" + args->vlf_order + "'");

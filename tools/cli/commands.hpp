@@ -28,6 +28,10 @@ void add_scene_options(CLI::App& command, SceneOptions& options);
 
 // "a,b,,c" -> {"a", "b", "c"}.
 std::vector<std::string> split_list(const std::string& text);
+// A size in bytes: digits (a decimal point allowed) and an optional binary suffix K, M, G or T
+// (x 1024^k, case-insensitive, "B" or "iB" may follow): "0", "1048576", "512M", "2G", "1.5GiB".
+// Throws beamtrace::Error naming `option` and the text otherwise.
+std::size_t parse_byte_size(const std::string& text, const std::string& option);
 // Writes a text file, creating its folder; throws beamtrace::Error if it cannot.
 void write_text(const std::string& path, const std::string& text);
 

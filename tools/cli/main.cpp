@@ -1,6 +1,8 @@
 // beamtrace: benchmarks and pictures of the library's engines against Embree.
 // Exit codes: 0 success, 2 bad input (a bad option, a missing or unreadable file, an empty scene, ...),
 // 1 anything unexpected.
+#include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -33,6 +35,42 @@ std::vector<std::string> split_list(const std::string& text) {
     while (std::getline(in, item, ','))
         if (!item.empty()) out.push_back(item);
     return out;
+}
+
+std::size_t parse_byte_size(const std::string& text, const std::string& option) {
+    auto fail = [&] {
+        throw Error(option + ": '" + text +
+                    "' is not a size in bytes (a number, optionally with K, M, G or T: e.g. 2G, 512M, 0 for none)");
+    };
+    std::size_t i = 0;
+    bool digits = false, point = false;
+    for (; i < text.size(); ++i) {
+        const char ch = text[i];
+        if (ch >= '0' && ch <= '9') {
+            digits = true;
+        } else if (ch == '.' && !point) {
+            point = true;
+        } else {
+            break;
+        }
+    }
+    if (!digits) fail();
+    const double number = std::stod(text.substr(0, i));
+    std::string suffix = text.substr(i);
+    for (char& ch : suffix) ch = char(std::toupper(static_cast<unsigned char>(ch)));
+    double scale = 1.0;
+    if (!suffix.empty() && std::string("KMGT").find(suffix[0]) != std::string::npos) {
+        scale = std::pow(1024.0, double(std::string("KMGT").find(suffix[0]) + 1));
+        suffix = suffix.substr(1);
+        if (suffix == "IB" || suffix == "B") suffix.clear();
+    } else if (suffix == "B") {
+        suffix.clear();
+    }
+    if (!suffix.empty()) fail();
+    const double bytes = number * scale;
+    if (!(bytes < 1.8e19)) fail();
+    if (point && scale == 1.0 && bytes != std::floor(bytes)) fail();  // a fraction of a byte
+    return static_cast<std::size_t>(bytes);
 }
 
 void write_text(const std::string& path, const std::string& text) {

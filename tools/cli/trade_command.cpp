@@ -22,6 +22,7 @@ struct TradeArgs {
     int repeats = 3;
     double min_seconds = 0.5;
     double vlf_budget_millions = 40.0;
+    std::string vlf_memory;
     bool anchor_engines = true;
 };
 
@@ -83,6 +84,9 @@ std::function<void()> add_trade_command(CLI::App& app) {
                     "(triangles x parallel subfields to build)")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    cmd->add_option("--vlf-memory", args->vlf_memory,
+                    "vlf: also sweep these memory budgets (comma-separated, e.g. 64M,256M,1G) at n = 128, d = 4 "
+                    "and every l");
     cmd->add_flag("--anchor-engines,!--no-anchor-engines", args->anchor_engines,
                   "sweep every Embree engine even when --engines leaves it out, so that the anchor is Embree at its "
                   "best (default on)");
@@ -97,6 +101,8 @@ std::function<void()> add_trade_command(CLI::App& app) {
         to.repeats = args->repeats;
         to.min_seconds = args->min_seconds;
         to.vlf_budget = args->vlf_budget_millions * 1e6;
+        for (const std::string& m : split_list(args->vlf_memory))
+            to.vlf_memory.push_back(parse_byte_size(m, "--vlf-memory"));
         to.progress = true;
         to.anchor_engines = args->anchor_engines;
         check_output_folder(args->out);

@@ -195,6 +195,22 @@ std::vector<TradeSetting> trade_settings(const Workload& w, const TradeOptions& 
                         o);
                     out.back().skipped = skipped;
                 }
+            // Under memory budgets: lazy tiles, the least recently used freed (docs/vlf.md).
+            if (std::string(engine) != "vlf") continue;
+            for (std::size_t memory : options.vlf_memory) {
+                if (memory == 0) continue;
+                EngineOptions o = base;
+                o.vlf.directions = l;
+                o.vlf.memory_budget_bytes = memory;
+                const std::string mib = number(double(memory) / double(1 << 20)) + "M";
+                add(engine, "l=" + std::to_string(l) + " n=128 d=4 memory=" + mib,
+                    "vlf " + std::to_string(l) + "/128/4 " + mib, o);
+                const std::size_t fixed = VisibilityField::fixed_memory_bytes(w.source.scene.triangle_count(), o.vlf);
+                out.back().skipped = skipped;
+                if (skipped.empty() && memory < fixed + (std::size_t(1) << 16))
+                    out.back().skipped = "skipped: the budget is below the field's fixed part of " +
+                                         number(double(fixed) / double(1 << 20)) + " MiB";
+            }
         }
     }
     return out;

@@ -34,6 +34,9 @@ struct TradeOptions {
     // A VLF-RT setting is skipped when the scene's triangles times the parallel subfields its rays
     // need (counted from the rays' directions) exceed this: about 0.35 s of building per million.
     double vlf_budget = 40e6;
+    // Memory budgets (VlfOptions::memory_budget_bytes) swept for vlf at n = 128, d = 4 and every l,
+    // besides the unbounded settings; budgets below a field's fixed part are skipped (with the reason).
+    std::vector<std::size_t> vlf_memory;
     bool progress = false;  // progress bars on stderr (only drawn on a terminal)
     // Sweep every Embree engine (embree1, embree16, embree-stream) even when `engines` leaves it out,
     // so that the anchor, the fastest of them, is Embree at its best.
@@ -42,7 +45,8 @@ struct TradeOptions {
 
 // The settings swept for this workload, in the order they are run: embree1, embree16, embree-stream, then kd1
 // (rules and constants), kd16, mlrta (beam settings when the rays form an image), vlf and
-// vlf-fast (l in {33, 129, 513} x n in {64, 128} x d in {0, 4}), keeping the given engines only.
+// vlf-fast (l in {33, 129, 513} x n in {64, 128} x d in {0, 4}; then vlf at n = 128, d = 4 under each
+// of options.vlf_memory), keeping the given engines only.
 // Throws beamtrace::Error for unknown engine names.
 std::vector<TradeSetting> trade_settings(const Workload& workload, const TradeOptions& options);
 

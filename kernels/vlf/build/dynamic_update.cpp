@@ -71,6 +71,7 @@ void VisibilityField::remove(std::span<const std::uint32_t> ids) {
     for (std::uint32_t id : ids) f.inserted[id] = 0;
     for (std::uint32_t k : own) f.present[k] = 0;
     const vlf::SubfieldInput input = f.input();
+    if (f.options.lazy_tiles) f.tile_cache->refit(f.triangles, f.present);
     each_built_psf(f, [&](vlf::ParallelSubfield& psf) { psf.remove(own, input); });
 }
 
@@ -101,6 +102,8 @@ void VisibilityField::insert(std::span<const std::uint32_t> ids) {
     }
     const std::vector<std::uint32_t> own = field_indices(f, ids);
     const vlf::SubfieldInput input = f.input();
+    // Lazy tiles find their triangles through the tree: its boxes follow the moved corners.
+    if (f.options.lazy_tiles) f.tile_cache->refit(f.triangles, f.present);
     each_built_psf(f, [&](vlf::ParallelSubfield& psf) { psf.insert(own, input); });
 }
 

@@ -42,6 +42,23 @@ public:
         }
     }
 
+    // Whether rasterise(v, ...) emits tile (c, r): the same arithmetic for that one row (lazy tile
+    // builds decide triangle by triangle, and must decide as the whole-PSF build does).
+    static bool touches(const TileGrid& g, const Vec3d* v, int c, int r) {
+        const double pad = g.pad;
+        const double ylo = std::min({v[0].y, v[1].y, v[2].y}), yhi = std::max({v[0].y, v[1].y, v[2].y});
+        if (r < g.cell(ylo - pad) || r > g.cell(yhi + pad)) return false;
+        double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
+        for (int e = 0; e < 3; ++e) {
+            const Vec3d& a = v[e];
+            const Vec3d& b = v[(e + 1) % 3];
+            if (r < g.cell(std::min(a.y, b.y) - pad) || r > g.cell(std::max(a.y, b.y) + pad)) continue;
+            edge_in_row(g, a, b, r, lo, hi);
+        }
+        if (!(lo <= hi)) return false;
+        return c >= g.cell(lo) && c <= g.cell(hi);
+    }
+
 private:
     // The 8-connected walk of one edge: for each row strip (widened by pad) the edge enters, the
     // x extent of the edge's part inside it, widened by pad, joins that row's span.
@@ -49,23 +66,27 @@ private:
         const TileGrid& g = grid_;
         const double pad = g.pad;
         const int r0 = g.cell(std::min(a.y, b.y) - pad), r1 = g.cell(std::max(a.y, b.y) + pad);
+        for (int r = r0; r <= r1; ++r) edge_in_row(g, a, b, r, lo_[std::size_t(r)], hi_[std::size_t(r)]);
+    }
+
+    // Row r of edge (a, b)'s walk (r among the rows the edge's padded extent covers): the x extent of
+    // its part inside the row's padded strip, widened by pad, joins [lo, hi].
+    static void edge_in_row(const TileGrid& g, const Vec3d& a, const Vec3d& b, int r, double& lo, double& hi) {
+        const double pad = g.pad;
         const double dy = b.y - a.y, dx = b.x - a.x;
-        for (int r = r0; r <= r1; ++r) {
-            double xa = a.x, xb = b.x;
-            if (dy != 0.0) {
-                const double s_lo = g.edge(r) - pad, s_hi = g.edge(r) + g.h + pad;
-                double t0 = (s_lo - a.y) / dy, t1 = (s_hi - a.y) / dy;
-                if (t0 > t1) std::swap(t0, t1);
-                t0 = std::max(t0, 0.0);
-                t1 = std::min(t1, 1.0);
-                if (t0 > t1) continue;
-                xa = a.x + t0 * dx;
-                xb = a.x + t1 * dx;
-            }
-            const std::size_t k = std::size_t(r);
-            lo_[k] = std::min(lo_[k], std::min(xa, xb) - pad);
-            hi_[k] = std::max(hi_[k], std::max(xa, xb) + pad);
+        double xa = a.x, xb = b.x;
+        if (dy != 0.0) {
+            const double s_lo = g.edge(r) - pad, s_hi = g.edge(r) + g.h + pad;
+            double t0 = (s_lo - a.y) / dy, t1 = (s_hi - a.y) / dy;
+            if (t0 > t1) std::swap(t0, t1);
+            t0 = std::max(t0, 0.0);
+            t1 = std::min(t1, 1.0);
+            if (t0 > t1) return;
+            xa = a.x + t0 * dx;
+            xb = a.x + t1 * dx;
         }
+        lo = std::min(lo, std::min(xa, xb) - pad);
+        hi = std::max(hi, std::max(xa, xb) + pad);
     }
 
     TileGrid grid_;

@@ -98,6 +98,7 @@ void prefetch_first_blocks(const PacketStart& s) {
 
 void VisibilityField::intersect(const Packet16& packet, PacketHits16& hits, VlfMode mode) const {
     const Impl& f = *impl_;
+    const auto guard = f.reading();
     vlf::PacketStart s;
     vlf::start_packet(f, packet, s);
     vlf::prefetch_first_blocks(s);
@@ -111,6 +112,7 @@ void VisibilityField::intersect(const Packet16& packet, PacketHits16& hits, VlfM
 
 std::uint32_t VisibilityField::occluded(const Packet16& packet, VlfMode mode) const {
     const Impl& f = *impl_;
+    const auto guard = f.reading();
     vlf::PacketStart s;
     vlf::start_packet(f, packet, s);
     vlf::prefetch_first_blocks(s);

@@ -66,6 +66,8 @@ void pipeline(const VisibilityField::Impl& f, std::size_t groups, Fill&& fill, W
         if (g + 3 < groups) begin(g + 3);
         if (g + 2 < groups) vlf::prefetch_first_blocks(at(g + 2).start);
         walk(at(g));
+        // Between walks no tile is held (groups ahead hold PSFs and prefetched addresses only).
+        if ((g & 3) == 3) f.quiescent();
     }
 }
 
@@ -144,6 +146,7 @@ void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, W
             counting_sort(bin, scratch.data(), n, counts, [n](const BinnedRay& r) { return r.tile % n; });
             counting_sort(scratch, bin.data(), n, counts, [n](const BinnedRay& r) { return r.tile / n; });
         }
+        f.quiescent();
         trace_bin(f, bin, walk);
     }
 }
@@ -154,6 +157,7 @@ void VisibilityField::intersect(std::span<const Packet16> packets, std::span<Pac
                                 VlfOrder order) const {
     check_query("VisibilityField::intersect", packets.size(), hits.size(), QueryOptions{});
     const Impl& f = *impl_;
+    const auto guard = f.reading();
     if (order == VlfOrder::automatic) order = VlfOrder::input;  // camera packets
     auto closest = [&](const Group& g, int i) {
         return vlf::walk_field<false, false>(f, *g.start.psf[i], g.start.lookup.ray(i),
@@ -168,12 +172,17 @@ void VisibilityField::intersect(std::span<const Packet16> packets, std::span<Pac
     }
     for (PacketHits16& h : hits)
         for (int i = 0; i < 16; ++i) h.set_hit(i, Hit{});
-    binned(f, packets, [&](const Group& g) {
-        for (std::uint32_t m = g.start.lookup.valid; m; m &= m - 1) {
-            const int i = __builtin_ctz(m);
-            hits[g.slots[i] / 16].set_hit(int(g.slots[i] % 16), closest(g, i));
-        }
-    });
+    // Under a memory budget, binned in parts whose bins take at most the budget's stream share.
+    const std::size_t part = f.stream_packets();
+    for (std::size_t first = 0; first < packets.size(); first += part) {
+        const std::size_t count = std::min(part, packets.size() - first);
+        binned(f, packets.subspan(first, count), [&](const Group& g) {
+            for (std::uint32_t m = g.start.lookup.valid; m; m &= m - 1) {
+                const int i = __builtin_ctz(m);
+                hits[first + g.slots[i] / 16].set_hit(int(g.slots[i] % 16), closest(g, i));
+            }
+        });
+    }
 }
 
 void VisibilityField::occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded, VlfMode mode,
@@ -182,6 +191,7 @@ void VisibilityField::occluded(std::span<const Packet16> packets, std::span<std:
     if (order == VlfOrder::automatic) order = VlfOrder::psf;  // incoherent secondary rays
     for (std::uint32_t& bits : occluded) bits = 0;
     const Impl& f = *impl_;
+    const auto guard = f.reading();
     auto walk = [&](const Group& g) {
         for (std::uint32_t m = g.start.lookup.valid; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
@@ -193,9 +203,24 @@ void VisibilityField::occluded(std::span<const Packet16> packets, std::span<std:
     };
     if (order == VlfOrder::input) return in_order(f, packets, walk);
     // Binned: rays whose segment stays in one tile in batches (tile_ray_stream.hpp), the others walk.
+    // Under a memory budget, in parts whose bins take at most the budget's stream share.
     vlf::TileRayLease lease(f);
-    binned(f, packets, walk, &lease.bins(), mode);
-    lease.bins().trace(f, occluded);
+    const std::size_t part = f.stream_packets();
+    for (std::size_t first = 0; first < packets.size(); first += part) {
+        const std::size_t count = std::min(part, packets.size() - first);
+        const std::span<std::uint32_t> out = occluded.subspan(first, count);
+        auto walk_part = [&](const Group& g) {
+            for (std::uint32_t m = g.start.lookup.valid; m; m &= m - 1) {
+                const int i = __builtin_ctz(m);
+                if (vlf::walk_field<true, false>(f, *g.start.psf[i], g.start.lookup.ray(i),
+                                                 g.start.lookup.watertight(i, *g.packet), mode, nullptr)
+                        .hit())
+                    out[g.slots[i] / 16] |= 1u << (g.slots[i] % 16);
+            }
+        };
+        binned(f, packets.subspan(first, count), walk_part, &lease.bins(), mode);
+        lease.bins().trace(f, out);
+    }
 }
 
 }  // namespace beamtrace

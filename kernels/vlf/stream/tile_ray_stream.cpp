@@ -8,6 +8,7 @@
 #include <immintrin.h>
 
 #include "vlf/query/tile_walk.hpp"
+#include "vlf/build/tile_cache.hpp"
 
 namespace beamtrace::vlf {
 
@@ -129,6 +130,7 @@ void TileRayBins::trace(const VisibilityField::Impl& f, std::span<std::uint32_t>
             for (std::size_t k = 0; k < m; ++k) out[next_[by_column[k].tile / n]++] = by_column[k];
         }
         const TileRay* by_row = out;
+        f.quiescent();  // no tile held between PSFs
         trace_psf(f, f.psf(std::uint32_t(psf)), std::span<const TileRay>(by_row, m), occluded);
     }
 }
@@ -265,14 +267,21 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
     // Batch b is tested while b + 1 is scanned, b + 2 has its groups' entries requested, b + 3 its
     // leaves' entries (or groups), b + 5 its blocks' heads, b + 7 its tile entries (distances
     // measured on the bunny's and the room's AO rays).
+    // Under a memory budget the pipeline is drained every kQuiescentBatches batches, where the
+    // thread holds no tile and says so (tile_cache.hpp): evicted blocks are then freed within a PSF.
     constexpr std::size_t H = 2, L = 4, G = 5, C = 6, T = C + 1;
-    for (std::size_t b = 0; b < batches + T; ++b) {
-        if (b < batches) request_entries(b);
-        if (b >= H && b - H < batches) request_heads(b - H);
-        if (b >= L && b - L < batches) request_entries_of_leaves(b - L);
-        if (b >= G && b - G < batches) request_groups(b - G);
-        if (b >= C && b - C < batches) candidates(b - C);
-        if (b >= T) test(b - T);
+    const std::size_t segment = f.tile_cache->budgeted() ? kQuiescentBatches : batches;
+    for (std::size_t b0 = 0; b0 < batches; b0 += segment) {
+        const std::size_t b1 = std::min(batches, b0 + segment);
+        for (std::size_t b = b0; b < b1 + T; ++b) {
+            if (b < b1) request_entries(b);
+            if (b >= b0 + H && b - H < b1) request_heads(b - H);
+            if (b >= b0 + L && b - L < b1) request_entries_of_leaves(b - L);
+            if (b >= b0 + G && b - G < b1) request_groups(b - G);
+            if (b >= b0 + C && b - C < b1) candidates(b - C);
+            if (b >= b0 + T) test(b - T);
+        }
+        if (b1 < batches) f.quiescent();
     }
 }
 

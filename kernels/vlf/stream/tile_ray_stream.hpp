@@ -45,6 +45,7 @@ public:
 private:
     static constexpr std::uint32_t kChunk = 256;
     static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+    static constexpr std::size_t kQuiescentBatches = 256;  // under a memory budget (tile_ray_stream.cpp)
     void trace_psf(const VisibilityField::Impl& f, const ParallelSubfield& psf, std::span<const TileRay> rays,
                    std::span<std::uint32_t> occluded);
 
