@@ -38,38 +38,23 @@ std::vector<std::string> split_list(const std::string& text) {
 }
 
 std::size_t parse_byte_size(const std::string& text, const std::string& option) {
-    auto fail = [&] {
-        throw Error(option + ": '" + text +
-                    "' is not a size in bytes (a number, optionally with K, M, G or T: e.g. 2G, 512M, 0 for none)");
-    };
-    std::size_t i = 0;
-    bool digits = false, point = false;
-    for (; i < text.size(); ++i) {
-        const char ch = text[i];
-        if (ch >= '0' && ch <= '9') {
-            digits = true;
-        } else if (ch == '.' && !point) {
-            point = true;
-        } else {
-            break;
+    // CLI11's size transform (K = 1024, as --raycls-memory), applied by hand for the comma-separated lists.
+    std::string value = text;
+    std::string problem = text.empty() || !std::isdigit(static_cast<unsigned char>(text[0])) ? "no number" : "";
+    std::uint64_t bytes = 0;
+    if (problem.empty()) {
+        try {
+            problem = CLI::AsSizeValue(false)(value);
+            std::size_t end = 0;
+            if (problem.empty()) bytes = std::stoull(value, &end);
+            if (problem.empty() && end != value.size()) problem = "trailing characters";
+        } catch (const std::exception& e) {
+            problem = e.what();
         }
     }
-    if (!digits) fail();
-    const double number = std::stod(text.substr(0, i));
-    std::string suffix = text.substr(i);
-    for (char& ch : suffix) ch = char(std::toupper(static_cast<unsigned char>(ch)));
-    double scale = 1.0;
-    if (!suffix.empty() && std::string("KMGT").find(suffix[0]) != std::string::npos) {
-        scale = std::pow(1024.0, double(std::string("KMGT").find(suffix[0]) + 1));
-        suffix = suffix.substr(1);
-        if (suffix == "IB" || suffix == "B") suffix.clear();
-    } else if (suffix == "B") {
-        suffix.clear();
-    }
-    if (!suffix.empty()) fail();
-    const double bytes = number * scale;
-    if (!(bytes < 1.8e19)) fail();
-    if (point && scale == 1.0 && bytes != std::floor(bytes)) fail();  // a fraction of a byte
+    if (!problem.empty())
+        throw Error(option + ": '" + text +
+                    "' is not a size in bytes (a whole number, optionally with K, M, G or T: e.g. 2G, 512M, 0 for none)");
     return static_cast<std::size_t>(bytes);
 }
 
