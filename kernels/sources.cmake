@@ -19,6 +19,7 @@ set(BEAMTRACE_SOURCES ${BEAMTRACE_ISA_SOURCES})
 foreach(source
     simd/isa.cpp
     common/scene.cpp
+    animation/animated_scene.cpp
     common/ray.cpp
     common/ray_validity.cpp
     common/watertight_packet.cpp

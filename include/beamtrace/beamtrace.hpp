@@ -1,5 +1,6 @@
 #pragma once
 // The whole public API.
+#include "beamtrace/animated_scene.hpp"
 #include "beamtrace/crsh.hpp"
 #include "beamtrace/error.hpp"
 #include "beamtrace/kdtree.hpp"
