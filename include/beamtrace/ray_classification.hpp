@@ -74,6 +74,9 @@ struct RayClsStats {
     std::size_t memory_peak_bytes = 0;     // the most held at any time
     double lazy_build_seconds = 0.0;       // spent making cells, summed over threads
     int max_depth_reached = 0;
+    // Calls (since made or cleared) whose rays mostly fell back to the kd-tree, so that the 5D tree
+    // stopped making cells for the rest of the call (incoherent rays; docs/raycls.md).
+    std::uint64_t growth_stops = 0;
 };
 
 class RayClassification {

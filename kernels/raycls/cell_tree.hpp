@@ -29,12 +29,17 @@ struct CellContext {
     // Entries made so far, and how many may be (entries_per_ray x rays of the calls so far; 0: no cap).
     std::atomic<std::uint64_t> entries_made{0}, entry_allowance{0};
     bool capped = false;
+    // Set within a call whose rays rarely reach a made cell (ray_classification.cpp): no cell is
+    // made until the next call.
+    std::atomic<bool> growth_stopped{false};
+    std::atomic<std::uint64_t> growth_stops{0};
     std::atomic<int> max_depth_reached{0};
 
     void add_bytes(std::size_t b);
     void remove_bytes(std::size_t b) { bytes.fetch_sub(b, std::memory_order_relaxed); }
     // New cells may be made (neither the memory budget nor the work cap is exhausted).
     bool may_grow() const {
+        if (growth_stopped.load(std::memory_order_relaxed)) return false;
         if (capped && entries_made.load(std::memory_order_relaxed) >= entry_allowance.load(std::memory_order_relaxed))
             return false;
         return memory_budget == 0 || bytes.load(std::memory_order_relaxed) < memory_budget;

@@ -43,6 +43,11 @@ namespace {
 constexpr std::size_t kMaxLightBuffers = 64;
 // Span calls shorter than this never make a light buffer (a single ray shares its own point).
 constexpr std::size_t kMinLightBufferRays = 64;
+// The 5D tree's payoff check: per window of this many rays of a thread, when more than
+// kFallbackRatio times as many rays fell back to the kd-tree (their cell missing) as reached a cell,
+// the call makes no more cells (incoherent rays: the cells they would need cost more than they save).
+constexpr std::uint32_t kPayoffWindow = 4096;
+constexpr std::uint32_t kFallbackRatio = 4;
 
 int log2_ceil(double x) { return x <= 1.0 ? 0 : int(std::ceil(std::log2(x))); }
 
@@ -91,6 +96,7 @@ struct RayClassification::Impl {
     // half the budget when over it.
     void start_call(std::size_t rays) const {
         context.epoch.fetch_add(1, std::memory_order_relaxed);
+        context.growth_stopped.store(false, std::memory_order_relaxed);
         context.entry_allowance.fetch_add(std::uint64_t(rays) * std::uint64_t(settings.entries_per_ray),
                                           std::memory_order_relaxed);
         if (settings.memory_budget_bytes == 0 || context.bytes.load() <= settings.memory_budget_bytes) return;
@@ -165,11 +171,24 @@ CallPlan plan_call(const Impl& impl, std::span<const Ray> rays, bool occlusion) 
     return plan;
 }
 
+// Rays of one thread's part that reached a cell and that fell back to the kd-tree, per window.
+struct Payoff {
+    std::uint32_t reached = 0, fell_back = 0;
+
+    // At the end of a window: stops the call's growth when cells do not pay.
+    void check(raycls::CellContext& context) {
+        if (reached + fell_back < kPayoffWindow) return;
+        if (fell_back > kFallbackRatio * reached && !context.growth_stopped.exchange(true, std::memory_order_relaxed))
+            context.growth_stops.fetch_add(1, std::memory_order_relaxed);
+        reached = fell_back = 0;
+    }
+};
+
 // One ray: its cell (the part's cache first), then its candidates; the kd-tree when the memory budget
 // leaves no room for its cell.
 template <bool kOcclusion, bool kCount>
 Hit trace_one(const Impl& impl, const CallPlan& plan, const Ray& r, const raycls::Cell*& cache,
-              QueryCounters* counters) {
+              QueryCounters* counters, Payoff& payoff) {
     Hit none;
     if (!describes_segment(r)) return none;
     Ray ray = r;
@@ -201,11 +220,13 @@ Hit trace_one(const Impl& impl, const CallPlan& plan, const Ray& r, const raycls
     } else {
         cell = plan.cells->find<kCount>(p, code, counters);
         if (!cell) {
+            ++payoff.fell_back;
             const KdTree::Impl& tree = detail::Access::impl(impl.tree);
             return kdtree::traverse_ray<kOcclusion, kCount, !kOcclusion>(tree, ray, counters);
         }
         if (impl.settings.cache) cache = cell;
     }
+    ++payoff.reached;
     const std::span<const raycls::Candidate> items =
         cell->grid ? cell->grid->cell(code.u, code.v) : std::span<const raycls::Candidate>(cell->list.items);
     const int k = raycls::face_axis(code.face);
@@ -235,11 +256,12 @@ void trace_span(const Impl& impl, std::span<const Ray> rays, const QueryOptions&
     const CallPlan plan = plan_call(impl, rays, kOcclusion);
     run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
         const raycls::Cell* cache = nullptr;
-        if (c) {
-            for (std::size_t i = b; i < e; ++i) out(i, trace_one<kOcclusion, true>(impl, plan, rays[i], cache, c));
-        } else {
-            for (std::size_t i = b; i < e; ++i)
-                out(i, trace_one<kOcclusion, false>(impl, plan, rays[i], cache, nullptr));
+        Payoff payoff;
+        const bool watch = plan.frame == Frame::space;
+        for (std::size_t i = b; i < e; ++i) {
+            out(i, c ? trace_one<kOcclusion, true>(impl, plan, rays[i], cache, c, payoff)
+                     : trace_one<kOcclusion, false>(impl, plan, rays[i], cache, nullptr, payoff));
+            if (watch) payoff.check(impl.context);
         }
     });
 }
@@ -266,14 +288,17 @@ Hit RayClassification::intersect(const Ray& ray) const {
     impl_->start_call(1);
     std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
     const raycls::Cell* cache = nullptr;
-    return trace_one<false, false>(*impl_, CallPlan{Frame::space, impl_->space.get()}, ray, cache, nullptr);
+    Payoff payoff;
+    return trace_one<false, false>(*impl_, CallPlan{Frame::space, impl_->space.get()}, ray, cache, nullptr, payoff);
 }
 
 bool RayClassification::occluded(const Ray& ray) const {
     impl_->start_call(1);
     std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
     const raycls::Cell* cache = nullptr;
-    return trace_one<true, false>(*impl_, CallPlan{Frame::space, impl_->space.get()}, ray, cache, nullptr).hit();
+    Payoff payoff;
+    return trace_one<true, false>(*impl_, CallPlan{Frame::space, impl_->space.get()}, ray, cache, nullptr, payoff)
+        .hit();
 }
 
 void RayClassification::intersect(std::span<const Ray> rays, std::span<Hit> hits, const QueryOptions& options) const {
@@ -318,6 +343,7 @@ void RayClassification::clear() const {
     impl_->context.cells_freed = 0;
     impl_->context.build_ns = 0;
     impl_->context.max_depth_reached = 0;
+    impl_->context.growth_stops = 0;
     impl_->context.peak_bytes = impl_->context.bytes.load();
 }
 
@@ -339,6 +365,7 @@ RayClsStats RayClassification::stats() const {
     s.memory_peak_bytes = c.peak_bytes.load();
     s.lazy_build_seconds = double(c.build_ns.load()) * 1e-9;
     s.max_depth_reached = c.max_depth_reached.load();
+    s.growth_stops = c.growth_stops.load();
     return s;
 }
 

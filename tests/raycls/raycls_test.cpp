@@ -258,6 +258,27 @@ TEST(RayClassification, WorkCapLeavesRaysToTheTree) {
     EXPECT_GT(rc.stats().cells_created, 0u);
 }
 
+// Incoherent rays (random origins and directions) rarely reach a made cell: after a window of 4,096
+// rays mostly traced by the kd-tree, the call makes no more cells; the answers do not change.
+TEST(RayClassification, IncoherentCallsStopMakingCells) {
+    const Scene scene = test::random_soup(3000, 9);
+    RayClsSettings s;
+    s.entries_per_ray = 0;  // no work cap: only the payoff check stops the build
+    s.rays_per_new_cell = 64;
+    const RayClassification rc(scene, s);
+    const std::vector<Ray> rays = test::random_rays(scene.bounds(), 70000, 81);
+    std::vector<Hit> hits(rays.size());
+    rc.intersect(rays, hits);
+    EXPECT_GE(rc.stats().growth_stops, 1u);
+    const std::uint64_t cells = rc.stats().cells_created;
+    for (std::size_t i = 0; i < rays.size(); i += 5)
+        expect_same_hit(hits[i], intersect_brute_force(scene, rays[i]), i, "incoherent", &scene, &rays[i]);
+    // The next call starts growing again (and stops again).
+    rc.intersect(rays, hits);
+    EXPECT_GE(rc.stats().growth_stops, 2u);
+    EXPECT_GE(rc.stats().cells_created, cells);
+}
+
 TEST(RayClassification, ClearForgetsCellsAndKeepsAnswers) {
     const Scene scene = test::random_soup(2000, 3);
     const RayClassification rc(scene);

@@ -63,6 +63,7 @@ public:
                             {"kd_fallback_rays", c.rays},
                             {"lazy_build_seconds", s.lazy_build_seconds},
                             {"max_depth_reached", s.max_depth_reached},
+                            {"growth_stops", s.growth_stops},
                             {"settings",
                              {{"max_depth", set.max_depth},
                               {"light_buffer_max_depth", set.light_buffer_max_depth},
