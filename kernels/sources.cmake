@@ -66,6 +66,8 @@ foreach(source
     raycls/direction_grid.cpp
     raycls/cell_tree.cpp
     raycls/ray_classification.cpp
+    raycls/moving_bin.cpp
+    raycls/space_time_classification.cpp
     mlrta/tile_tracer.cpp
     mlrta/mlrta.cpp
     crsh/bounding_spheres.cpp

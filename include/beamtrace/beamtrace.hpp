@@ -9,6 +9,7 @@
 #include "beamtrace/ray_classification.hpp"
 #include "beamtrace/scene.hpp"
 #include "beamtrace/sorted_lists.hpp"
+#include "beamtrace/space_time_classification.hpp"
 #include "beamtrace/stats.hpp"
 #include "beamtrace/stream.hpp"
 #include "beamtrace/vec.hpp"

@@ -2,7 +2,6 @@
 // Arvo and Kirk's 5D ray space made lazily, light buffers for rays sharing an end point (shadow rays
 // towards a point light) or a start point (camera rays). Every timed pass starts with no cells, so
 // the lazy build is inside the time; the counted pass (stats) does too.
-#include <chrono>
 
 #include "beamtrace/ray_classification.hpp"
 #include "engines/active_rays.hpp"
@@ -24,15 +23,9 @@ public:
     void prepare(const RaySet& rays) override { prepared_.prepare(rays); }
 
     // The cells are freed before the clock starts: the pass makes the ones it needs.
-    double timed_pass(const RaySet& rays, EngineAnswers& answers, int threads, int) override {
-        prepare(rays);
+    double timed_pass(const RaySet& rays, EngineAnswers& answers, int threads, int variant) override {
         raycls_->clear();
-        const bool closest = closest_hit(rays.mode);
-        const auto start = std::chrono::steady_clock::now();
-        trace(rays, closest, answers, threads);
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        answers.to_slots(rays, closest);
-        return seconds;
+        return Engine::timed_pass(rays, answers, threads, variant);
     }
 
     void trace(const RaySet& rays, bool closest, EngineAnswers& a, int threads) const override {

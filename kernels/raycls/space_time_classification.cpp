@@ -1,0 +1,228 @@
+// SpaceTimeClassification (beamtrace/space_time_classification.hpp): the static part once, the
+// moving triangles per time bin.
+#include "beamtrace/space_time_classification.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <shared_mutex>
+#include <string>
+#include <vector>
+
+#include "beamtrace/error.hpp"
+#include "common/query_runner.hpp"
+#include "raycls/moving_bin.hpp"
+
+namespace beamtrace {
+
+void SpaceTimeSettings::validate() const {
+    space.validate();
+    if (time_bins < 0 || time_bins > 1024)
+        throw Error("space-time classification: time_bins must be 0 (automatic) to 1024, not " +
+                    std::to_string(time_bins));
+    if (max_depth < 0 || max_depth > 8)
+        throw Error("space-time classification: max_depth must be 0 to 8, not " + std::to_string(max_depth));
+    if (min_candidates < 0)
+        throw Error("space-time classification: min_candidates must be at least 0, not " +
+                    std::to_string(min_candidates));
+    if (keep_calls < 1)
+        throw Error("space-time classification: keep_calls must be at least 1, not " + std::to_string(keep_calls));
+}
+
+namespace {
+
+// About one bin per mean motion of a moving triangle's corners over its mean size.
+int automatic_bins(const AnimatedScene& scene, const std::vector<std::uint32_t>& moving) {
+    if (moving.empty()) return 1;
+    double motion = 0.0, size = 0.0;
+    const auto times = scene.times();
+    for (std::uint32_t id : moving) {
+        const Triangle first = scene.triangle_at(id, times.front());
+        Box b;
+        for (const Float3& p : {first.v0, first.v1, first.v2}) b.extend(p);
+        size += double(b.diagonal());
+        double path = 0.0;
+        for (std::size_t k = 1; k < times.size(); ++k) {
+            const Triangle a = scene.triangle_at(id, times[k - 1]), c = scene.triangle_at(id, times[k]);
+            path += std::max({double(length(c.v0 - a.v0)), double(length(c.v1 - a.v1)), double(length(c.v2 - a.v2))});
+        }
+        motion += path;
+    }
+    if (size <= 0.0) return 1024;
+    return int(std::clamp(std::lround(motion / size), 1L, 1024L));
+}
+
+}  // namespace
+
+struct SpaceTimeClassification::Impl {
+    AnimatedScene scene;
+    SpaceTimeSettings settings;
+    RayClassification still;
+    std::vector<std::uint32_t> moving;
+    int bins = 1;
+    float start = 0.0f, span = 1.0f;
+    mutable raycls::MovingContext context;
+    mutable std::vector<std::atomic<raycls::MovingBin*>> slots;
+    mutable std::mutex make_mutex;
+    mutable std::shared_mutex use_mutex;
+    mutable std::atomic<std::uint64_t> epoch{1}, bins_made{0}, bins_freed{0};
+
+    Impl(const AnimatedScene& s, const SpaceTimeSettings& set, const KdBuildRules& rules)
+        : scene(s), settings((set.validate(), set)), still(s.static_part(), set.space, rules) {
+        for (std::uint32_t t = 0; t < scene.triangle_count(); ++t)
+            if (scene.is_moving(t)) moving.push_back(t);
+        bins = settings.time_bins ? settings.time_bins : automatic_bins(scene, moving);
+        start = scene.start_time();
+        span = scene.end_time() - scene.start_time();
+        context.scene = &scene;
+        context.kernels = &triangle_kernels();
+        context.moving = &moving;
+        context.origins = scene.bounds();
+        context.max_depth = settings.max_depth;
+        context.min_candidates = settings.min_candidates;
+        float scale = 1.0f;
+        for (int k = 0; k < 3; ++k)
+            scale = std::max({scale, std::fabs(context.origins.lower[k]), std::fabs(context.origins.upper[k])});
+        context.origin_margin = double(scale) * 1e-5;
+        context.direction_margin = 1e-6;
+        slots = std::vector<std::atomic<raycls::MovingBin*>>(std::size_t(bins));
+        for (auto& b : slots) b.store(nullptr);
+    }
+    ~Impl() { free_bins(~std::uint64_t(0)); }
+
+    int bin_of(float t) const {
+        const float x = (t - start) / span * float(bins);
+        return std::clamp(int(std::floor(x)), 0, bins - 1);
+    }
+
+    const raycls::MovingBin& bin(int i) const {
+        std::atomic<raycls::MovingBin*>& slot = slots[std::size_t(i)];
+        raycls::MovingBin* b = slot.load(std::memory_order_acquire);
+        if (!b) {
+            std::lock_guard<std::mutex> lock(make_mutex);
+            b = slot.load(std::memory_order_acquire);
+            if (!b) {
+                const float t0 = start + span * float(i) / float(bins);
+                const float t1 = i + 1 == bins ? scene.end_time() : start + span * float(i + 1) / float(bins);
+                // The first and last bins also hold the clamped times outside the span.
+                b = new raycls::MovingBin(context, i == 0 ? scene.start_time() : t0, t1);
+                slot.store(b, std::memory_order_release);
+                bins_made.fetch_add(1, std::memory_order_relaxed);
+            }
+        }
+        const std::uint64_t e = epoch.load(std::memory_order_relaxed);
+        if (b->last_used.load(std::memory_order_relaxed) != e) b->last_used.store(e, std::memory_order_relaxed);
+        return *b;
+    }
+
+    // Frees the bins last used before `before` (only while no call runs).
+    void free_bins(std::uint64_t before) const {
+        for (auto& slot : slots) {
+            raycls::MovingBin* b = slot.load();
+            if (b && b->last_used.load() < before) {
+                slot.store(nullptr);
+                delete b;
+                bins_freed.fetch_add(1, std::memory_order_relaxed);
+            }
+        }
+    }
+
+    void start_call() const {
+        const std::uint64_t e = epoch.fetch_add(1) + 1;
+        if (e <= std::uint64_t(settings.keep_calls)) return;
+        std::unique_lock<std::shared_mutex> alone(use_mutex, std::try_to_lock);
+        if (alone.owns_lock()) free_bins(e - std::uint64_t(settings.keep_calls));
+    }
+};
+
+namespace {
+
+void check_times(const char* what, std::size_t rays, std::span<const float> times) {
+    if (times.size() != rays)
+        throw Error(std::string(what) + ": " + std::to_string(times.size()) + " times for " + std::to_string(rays) +
+                    " rays");
+    for (std::size_t i = 0; i < times.size(); ++i)
+        if (!std::isfinite(times[i]))
+            throw Error(std::string(what) + ": ray " + std::to_string(i) + " has a time that is not finite");
+}
+
+}  // namespace
+
+SpaceTimeClassification::SpaceTimeClassification(const AnimatedScene& scene, const SpaceTimeSettings& settings,
+                                                 const KdBuildRules& rules)
+    : impl_(std::make_shared<Impl>(scene, settings, rules)) {}
+
+void SpaceTimeClassification::intersect(std::span<const Ray> rays, std::span<const float> times, std::span<Hit> hits,
+                                        const QueryOptions& options) const {
+    check_query("SpaceTimeClassification::intersect", rays.size(), hits.size(), options);
+    check_times("SpaceTimeClassification::intersect", rays.size(), times);
+    impl_->still.intersect(rays, hits, options);
+    if (impl_->moving.empty()) return;
+    impl_->start_call();
+    std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
+    run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
+        for (std::size_t i = b; i < e; ++i) {
+            const raycls::MovingBin& bin = impl_->bin(impl_->bin_of(times[i]));
+            hits[i] = c ? bin.closest<true>(rays[i], times[i], hits[i], c)
+                        : bin.closest<false>(rays[i], times[i], hits[i], nullptr);
+        }
+    });
+}
+
+void SpaceTimeClassification::occluded(std::span<const Ray> rays, std::span<const float> times,
+                                       std::span<std::uint8_t> occluded, const QueryOptions& options) const {
+    check_query("SpaceTimeClassification::occluded", rays.size(), occluded.size(), options);
+    check_times("SpaceTimeClassification::occluded", rays.size(), times);
+    impl_->still.occluded(rays, occluded, options);
+    if (impl_->moving.empty()) return;
+    impl_->start_call();
+    std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
+    run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
+        for (std::size_t i = b; i < e; ++i) {
+            if (occluded[i]) continue;
+            const raycls::MovingBin& bin = impl_->bin(impl_->bin_of(times[i]));
+            occluded[i] = (c ? bin.any<true>(rays[i], times[i], c) : bin.any<false>(rays[i], times[i], nullptr)) ? 1 : 0;
+        }
+    });
+}
+
+Hit SpaceTimeClassification::intersect(const Ray& ray, float time) const {
+    Hit h;
+    intersect(std::span<const Ray>(&ray, 1), std::span<const float>(&time, 1), std::span<Hit>(&h, 1));
+    return h;
+}
+
+bool SpaceTimeClassification::occluded(const Ray& ray, float time) const {
+    std::uint8_t o = 0;
+    occluded(std::span<const Ray>(&ray, 1), std::span<const float>(&time, 1), std::span<std::uint8_t>(&o, 1));
+    return o != 0;
+}
+
+void SpaceTimeClassification::clear() const {
+    impl_->still.clear();
+    std::unique_lock<std::shared_mutex> alone(impl_->use_mutex);
+    impl_->free_bins(~std::uint64_t(0));
+    impl_->context.peak_bytes = impl_->context.bytes.load();
+}
+
+const AnimatedScene& SpaceTimeClassification::scene() const { return impl_->scene; }
+const RayClassification& SpaceTimeClassification::static_part() const { return impl_->still; }
+const SpaceTimeSettings& SpaceTimeClassification::settings() const { return impl_->settings; }
+
+SpaceTimeStats SpaceTimeClassification::stats() const {
+    SpaceTimeStats s;
+    s.static_part = impl_->still.stats();
+    s.moving_triangles = impl_->moving.size();
+    s.time_bins = impl_->bins;
+    s.bins_made = impl_->bins_made.load();
+    s.bins_freed = impl_->bins_freed.load();
+    s.bins_resident = s.bins_made - s.bins_freed;
+    s.moving_cells = impl_->context.cells.load();
+    s.moving_entries = impl_->context.entries.load();
+    s.moving_memory_bytes = impl_->context.bytes.load();
+    s.moving_memory_peak_bytes = impl_->context.peak_bytes.load();
+    return s;
+}
+
+}  // namespace beamtrace

@@ -1,0 +1,172 @@
+// SpaceTimeClassification: a ray at time t answers as kd1 (and brute force) on scene.at(t), for
+// closest hits and occlusion, spans on one and two threads, single rays; bins of past calls freed;
+// bad input named.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "beamtrace/error.hpp"
+#include "beamtrace/kdtree.hpp"
+#include "beamtrace/space_time_classification.hpp"
+
+using namespace beamtrace;
+
+namespace {
+
+// n small random triangles; every third one still, the others on a random path of k keyframes.
+AnimatedScene soup_in_motion(std::size_t n, std::size_t k, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> pos(-1.0f, 1.0f);
+    std::vector<float> times(k);
+    for (std::size_t i = 0; i < k; ++i) times[i] = float(i) * 0.25f;
+    std::vector<Float3> first(3 * n), keys;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Float3 c{pos(rng), pos(rng), pos(rng)};
+        for (int j = 0; j < 3; ++j) first[3 * i + std::size_t(j)] = c + Float3{pos(rng), pos(rng), pos(rng)} * 0.15f;
+    }
+    std::vector<Float3> drift(n);
+    for (auto& d : drift) d = Float3{pos(rng), pos(rng), pos(rng)} * 0.2f;
+    for (std::size_t f = 0; f < k; ++f)
+        for (std::size_t v = 0; v < 3 * n; ++v) {
+            const std::size_t t = v / 3;
+            keys.push_back(t % 3 == 0 ? first[v] : first[v] + drift[t] * float(f) + Float3{pos(rng), pos(rng), pos(rng)} * 0.02f);
+        }
+    std::vector<std::uint32_t> idx(3 * n);
+    for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = std::uint32_t(i);
+    return AnimatedScene(times, keys, 3 * n, idx);
+}
+
+std::vector<Ray> random_rays(int n, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-1.5f, 1.5f);
+    std::vector<Ray> rays;
+    for (int i = 0; i < n; ++i) {
+        const Float3 o{u(rng), u(rng), u(rng)}, target{u(rng) * 0.5f, u(rng) * 0.5f, u(rng) * 0.5f};
+        rays.push_back(Ray{o, 0.0f, target - o, i % 4 == 0 ? 0.7f : kInfinity});
+    }
+    return rays;
+}
+
+void expect_as_snapshots(const SpaceTimeClassification& st, const std::vector<Ray>& rays,
+                         const std::vector<float>& times, int threads) {
+    std::vector<Hit> hits(rays.size());
+    std::vector<std::uint8_t> occ(rays.size());
+    st.intersect(rays, times, hits, QueryOptions{threads, nullptr});
+    st.occluded(rays, times, occ, QueryOptions{threads, nullptr});
+    std::size_t hit_count = 0, moving_hits = 0;
+    std::vector<float> distinct = times;
+    std::sort(distinct.begin(), distinct.end());
+    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    for (float t : distinct) {
+        const Scene snapshot = st.scene().at(t);
+        const KdTree kd = KdTree::build(snapshot);
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            if (times[i] != t) continue;
+            const Hit want = intersect_brute_force(snapshot, rays[i]);
+            const Hit k = kd.intersect(rays[i]);
+            ASSERT_EQ(hits[i].triangle, want.triangle) << "ray " << i << " at " << t;
+            ASSERT_EQ(hits[i].t, want.t) << "ray " << i << " at " << t;
+            ASSERT_EQ(hits[i].u, want.u) << "ray " << i << " at " << t;
+            ASSERT_EQ(hits[i].v, want.v) << "ray " << i << " at " << t;
+            ASSERT_EQ(hits[i].t, k.t) << "kd1, ray " << i << " at " << t;  // kd1: same t (ties: its own id)
+            ASSERT_EQ(occ[i] != 0, kd.occluded(rays[i])) << "occlusion, ray " << i << " at " << t;
+            hit_count += want.hit();
+            moving_hits += want.hit() && st.scene().is_moving(want.triangle);
+            if (i % 11 == 0) {
+                const Hit one = st.intersect(rays[i], t);
+                ASSERT_EQ(one.triangle, want.triangle);
+                ASSERT_EQ(one.t, want.t);
+                ASSERT_EQ(st.occluded(rays[i], t), occ[i] != 0);
+            }
+        }
+    }
+    EXPECT_GT(hit_count, rays.size() / 10);
+    EXPECT_GT(moving_hits, rays.size() / 20) << "the moving part answers nothing: the test tests too little";
+}
+
+}  // namespace
+
+TEST(SpaceTime, AnswersAsKd1AndBruteForceOnTheSnapshot) {
+    const AnimatedScene scene = soup_in_motion(600, 5, 3);
+    const std::vector<float> shared_times = {-0.5f, 0.0f, 0.1f, 0.25f, 0.4f, 0.61f, 0.8f, 1.0f, 1.7f};
+    for (int bins : {0, 1, 7}) {
+        SpaceTimeSettings s;
+        s.time_bins = bins;
+        const SpaceTimeClassification st(scene, s);
+        const std::vector<Ray> rays = random_rays(4000, 5 + std::uint32_t(bins));
+        std::vector<float> times(rays.size());
+        for (std::size_t i = 0; i < times.size(); ++i) times[i] = shared_times[(i * 7) % shared_times.size()];
+        expect_as_snapshots(st, rays, times, 1);
+        expect_as_snapshots(st, rays, times, 2);
+        EXPECT_GT(st.stats().moving_cells, 0u);
+        EXPECT_EQ(st.stats().moving_triangles, scene.moving_count());
+    }
+}
+
+TEST(SpaceTime, StillSceneIsTheStaticClassification) {
+    const Scene base = soup_in_motion(300, 2, 8).at(0.0f);
+    std::vector<Float3> keys(base.vertices().begin(), base.vertices().end());
+    keys.insert(keys.end(), base.vertices().begin(), base.vertices().end());
+    const std::vector<std::uint32_t> idx(base.indices().begin(), base.indices().end());
+    const AnimatedScene still(std::vector<float>{0.0f, 1.0f}, keys, base.vertex_count(), idx);
+    EXPECT_EQ(still.moving_count(), 0u);
+    const SpaceTimeClassification st(still);
+    const std::vector<Ray> rays = random_rays(1000, 9);
+    std::vector<float> times(rays.size(), 0.5f);
+    std::vector<Hit> hits(rays.size());
+    st.intersect(rays, times, hits);
+    for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(hits[i].t, intersect_brute_force(base, rays[i]).t) << i;
+    EXPECT_EQ(st.stats().bins_made, 0u);
+}
+
+TEST(SpaceTime, BinsOfPastCallsAreFreed) {
+    const AnimatedScene scene = soup_in_motion(400, 5, 4);
+    SpaceTimeSettings s;
+    s.time_bins = 16;
+    s.keep_calls = 1;
+    const SpaceTimeClassification st(scene, s);
+    const std::vector<Ray> rays = random_rays(500, 2);
+    std::vector<Hit> hits(rays.size());
+    std::size_t first_peak = 0;
+    for (int frame = 0; frame < 16; ++frame) {
+        const std::vector<float> times(rays.size(), float(frame) / 16.0f + 0.01f);
+        st.intersect(rays, times, hits);
+        if (frame == 1) first_peak = st.stats().moving_memory_bytes;
+    }
+    const SpaceTimeStats stats = st.stats();
+    EXPECT_EQ(stats.bins_made, 16u);
+    EXPECT_GE(stats.bins_freed, 14u);
+    EXPECT_LE(stats.bins_resident, 2u);
+    EXPECT_LE(double(stats.moving_memory_bytes), 2.5 * double(first_peak)) << "memory grows with frames";
+    st.clear();
+    EXPECT_EQ(st.stats().bins_resident, 0u);
+    EXPECT_EQ(st.stats().moving_memory_bytes, 0u);
+}
+
+TEST(SpaceTime, BadInputIsNamed) {
+    const AnimatedScene scene = soup_in_motion(50, 3, 1);
+    SpaceTimeSettings bad;
+    bad.time_bins = -1;
+    EXPECT_THROW(SpaceTimeClassification(scene, bad), Error);
+    bad = {};
+    bad.keep_calls = 0;
+    EXPECT_THROW(SpaceTimeClassification(scene, bad), Error);
+    const SpaceTimeClassification st(scene);
+    const std::vector<Ray> rays = random_rays(4, 1);
+    std::vector<Hit> hits(4);
+    try {
+        st.intersect(rays, std::vector<float>(3, 0.0f), hits);
+        ADD_FAILURE() << "no error for 3 times and 4 rays";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("3 times for 4 rays"), std::string::npos) << e.what();
+    }
+    try {
+        st.intersect(rays, std::vector<float>{0.0f, 0.1f, NAN, 0.2f}, hits);
+        ADD_FAILURE() << "no error for a NaN time";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("ray 2 has a time"), std::string::npos) << e.what();
+    }
+}
