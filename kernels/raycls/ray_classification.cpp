@@ -171,9 +171,16 @@ CallPlan plan_call(const Impl& impl, std::span<const Ray> rays, bool occlusion) 
     return plan;
 }
 
-// Rays of one thread's part that reached a cell and that fell back to the kd-tree, per window.
+// Rays of one thread that reached a cell and that fell back to the kd-tree, per window of one call
+// (kept per thread across the call's chunks: a chunk of a threaded call is shorter than a window).
 struct Payoff {
+    const void* owner = nullptr;
+    std::uint64_t epoch = 0;
     std::uint32_t reached = 0, fell_back = 0;
+
+    void start(const void* classification, std::uint64_t call) {
+        if (owner != classification || epoch != call) *this = Payoff{classification, call, 0, 0};
+    }
 
     // At the end of a window: stops the call's growth when cells do not pay.
     void check(raycls::CellContext& context) {
@@ -254,9 +261,11 @@ void trace_span(const Impl& impl, std::span<const Ray> rays, const QueryOptions&
     impl.start_call(rays.size());
     std::shared_lock<std::shared_mutex> use(impl.use_mutex);
     const CallPlan plan = plan_call(impl, rays, kOcclusion);
+    const std::uint64_t call = impl.context.epoch.load(std::memory_order_relaxed);
     run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
         const raycls::Cell* cache = nullptr;
-        Payoff payoff;
+        thread_local Payoff payoff;
+        payoff.start(&impl, call);
         const bool watch = plan.frame == Frame::space;
         for (std::size_t i = b; i < e; ++i) {
             out(i, c ? trace_one<kOcclusion, true>(impl, plan, rays[i], cache, c, payoff)

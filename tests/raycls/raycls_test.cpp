@@ -273,10 +273,15 @@ TEST(RayClassification, IncoherentCallsStopMakingCells) {
     const std::uint64_t cells = rc.stats().cells_created;
     for (std::size_t i = 0; i < rays.size(); i += 5)
         expect_same_hit(hits[i], intersect_brute_force(scene, rays[i]), i, "incoherent", &scene, &rays[i]);
-    // The next call starts growing again (and stops again).
+    // The next call starts growing again (and stops again), on two threads too (the windows are
+    // counted per thread across the call's chunks).
     rc.intersect(rays, hits);
     EXPECT_GE(rc.stats().growth_stops, 2u);
     EXPECT_GE(rc.stats().cells_created, cells);
+    rc.intersect(rays, hits, QueryOptions{2, nullptr});
+    EXPECT_GE(rc.stats().growth_stops, 3u);
+    for (std::size_t i = 3; i < rays.size(); i += 5)
+        expect_same_hit(hits[i], intersect_brute_force(scene, rays[i]), i, "incoherent, 2 threads", &scene, &rays[i]);
 }
 
 TEST(RayClassification, ClearForgetsCellsAndKeepsAnswers) {
