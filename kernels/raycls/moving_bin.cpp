@@ -155,8 +155,8 @@ const MovingCell* MovingBin::cell_of(const Ray& r, float& key_origin, float& ste
     return c;
 }
 
-template <bool kCount>
-Hit MovingBin::closest(const Ray& ray, float time, Hit best, QueryCounters* counters) const {
+template <bool kAny, bool kCount>
+Hit MovingBin::scan(const Ray& ray, float time, Hit best, QueryCounters* counters) const {
     if (!describes_segment(ray)) return best;
     float key_origin = 0.0f, step = 0.0f;
     const MovingCell* cell = cell_of(ray, key_origin, step);
@@ -176,6 +176,7 @@ Hit MovingBin::closest(const Ray& ray, float time, Hit best, QueryCounters* coun
             if (!(lanes.t[j] < best.t || (lanes.t[j] == best.t && id < best.triangle))) continue;
             if (zero_area(tris[j])) continue;
             best = Hit{lanes.t[j], id, lanes.u[j], lanes.v[j]};
+            if constexpr (kAny) return best;
             w.tfar = best.t;
             stop = key_stop(key_origin, best.t, step);
         }
@@ -184,23 +185,13 @@ Hit MovingBin::closest(const Ray& ray, float time, Hit best, QueryCounters* coun
 }
 
 template <bool kCount>
+Hit MovingBin::closest(const Ray& ray, float time, Hit best, QueryCounters* counters) const {
+    return scan<false, kCount>(ray, time, best, counters);
+}
+
+template <bool kCount>
 bool MovingBin::any(const Ray& ray, float time, QueryCounters* counters) const {
-    if (!describes_segment(ray)) return false;
-    float key_origin = 0.0f, step = 0.0f;
-    const MovingCell* cell = cell_of(ray, key_origin, step);
-    if (!cell) return false;
-    const WatertightRay w = make_watertight_ray(ray);
-    const float stop = key_stop(key_origin, ray.tfar, step);
-    Triangle tris[8];
-    for (std::size_t first = 0; first < cell->items.size(); first += 8) {
-        if (cell->items[first].key > stop) break;
-        LaneHits lanes;
-        const int count = test_at_time(context_, w, cell->items, first, time, tris, lanes);
-        if constexpr (kCount) counters->triangle_tests += std::uint64_t(count);
-        for (std::uint32_t m = lanes.mask; m; m &= m - 1)
-            if (!zero_area(tris[__builtin_ctz(m)])) return true;
-    }
-    return false;
+    return scan<true, kCount>(ray, time, Hit{}, counters).hit();
 }
 
 template Hit MovingBin::closest<true>(const Ray&, float, Hit, QueryCounters*) const;

@@ -61,6 +61,9 @@ public:
     std::atomic<std::uint64_t> last_used{0};
 
 private:
+    // The ray's cell, its candidates in order; kAny: the first hit of the segment.
+    template <bool kAny, bool kCount>
+    Hit scan(const Ray& ray, float time, Hit best, QueryCounters* counters) const;
     const MovingCell* cell_of(const Ray& ray, float& key_origin, float& step) const;
     MovingCell* make_child(const MovingCell& parent, int index) const;
     void delete_cell(MovingCell* c) const;
