@@ -15,6 +15,7 @@
 
 using namespace beamtrace;
 using namespace beamtrace::workload;
+using beamtrace::test::expect_same_answers;
 
 namespace {
 
@@ -31,23 +32,6 @@ std::unique_ptr<Engine> built(const std::string& name, const Scene& scene) {
     std::unique_ptr<Engine> e = make_engine(name);
     e->build(scene, EngineOptions{});
     return e;
-}
-
-void expect_same_answers(const Engine& a, const Engine& b, const Workload& w, const std::string& what) {
-    if (w.mode == Mode::primary) {
-        std::vector<Hit> ha, hb;
-        a.intersect(w.rays, ha, 2);
-        b.intersect(w.rays, hb, 1);
-        for (std::size_t s = 0; s < ha.size(); ++s) {
-            ASSERT_EQ(ha[s].triangle, hb[s].triangle) << what << " slot " << s;
-            ASSERT_EQ(ha[s].t, hb[s].t) << what << " slot " << s;
-        }
-    } else {
-        std::vector<std::uint8_t> oa, ob;
-        a.occluded(w.rays, oa, 2);
-        b.occluded(w.rays, ob, 1);
-        ASSERT_EQ(oa, ob) << what;
-    }
 }
 
 void run_case(const SceneCase& c) {

@@ -45,4 +45,21 @@ void expect_no_mismatch(const oracle::Tally& t, const std::string& what) {
     }
 }
 
+void expect_same_answers(const workload::Engine& a, const workload::Engine& b, const workload::Workload& w, const std::string& what) {
+    if (w.mode == workload::Mode::primary) {
+        std::vector<Hit> ha, hb;
+        a.intersect(w.rays, ha, 2);
+        b.intersect(w.rays, hb, 1);
+        for (std::size_t s = 0; s < ha.size(); ++s) {
+            ASSERT_EQ(ha[s].triangle, hb[s].triangle) << what << " slot " << s;
+            ASSERT_EQ(ha[s].t, hb[s].t) << what << " slot " << s;
+        }
+    } else {
+        std::vector<std::uint8_t> oa, ob;
+        a.occluded(w.rays, oa, 2);
+        b.occluded(w.rays, ob, 1);
+        ASSERT_EQ(oa, ob) << what;
+    }
+}
+
 }  // namespace beamtrace::test

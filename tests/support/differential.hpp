@@ -5,7 +5,9 @@
 #include <utility>
 #include <vector>
 
+#include "engines/engine.hpp"
 #include "oracle/comparison.hpp"
+#include "rays/workload.hpp"
 #include "scenes/scene_source.hpp"
 
 namespace beamtrace::test {
@@ -19,5 +21,10 @@ std::vector<std::pair<std::string, scenes::Camera>> cameras_for(const scenes::Sc
 
 // Zero `mismatch` (and at least one ray); on failure the first mismatching ray is printed.
 void expect_no_mismatch(const oracle::Tally& tally, const std::string& what);
+
+// Engine a on two threads answers every slot of the workload as engine b on one: the same triangle
+// and t for closest hits (primary), the same occlusion otherwise.
+void expect_same_answers(const workload::Engine& a, const workload::Engine& b, const workload::Workload& w,
+                         const std::string& what);
 
 }  // namespace beamtrace::test
