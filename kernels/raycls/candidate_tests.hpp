@@ -40,15 +40,17 @@ inline int test_batch(const TriangleKernels& kernels, const WatertightRay& w, st
     return count;
 }
 
-// Closest hit along the ray. key_origin: s * org_k (s the sign of the ray's face, k its axis), step:
-// |dir_k|; a hit at t lies at key key_origin + t * step.
-template <bool kCount>
-Hit closest_candidate(const TriangleKernels& kernels, std::span<const Candidate> list, const Ray& ray,
-                      float key_origin, float step, QueryCounters* counters) {
+// The candidates in list order until a batch starts beyond `stop`. kAny: the first hit (occlusion:
+// stop is the segment's far end seen from the cell's origins, margin included: key_stop). Otherwise
+// the closest (smallest t, at equal t smaller id); each better hit moves the stop to its own key
+// (key_origin: s * org_k, s the sign of the ray's face, k its axis; step: |dir_k|; a hit at t lies at
+// key key_origin + t * step).
+template <bool kAny, bool kCount>
+Hit scan_candidates(const TriangleKernels& kernels, std::span<const Candidate> list, const Ray& ray,
+                    float key_origin, float step, float stop, QueryCounters* counters) {
     Hit best;
     WatertightRay w = make_watertight_ray(ray);
     const std::uint32_t n = std::uint32_t(list.size());
-    float stop = key_stop(key_origin, ray.tfar, step);
     for (std::uint32_t first = 0; first < n; first += 8) {
         if (list[first].key > stop) break;
         LaneHits lanes;
@@ -60,34 +62,29 @@ Hit closest_candidate(const TriangleKernels& kernels, std::span<const Candidate>
         for (std::uint32_t m = lanes.mask; m; m &= m - 1) {
             const int j = __builtin_ctz(m);
             const std::uint32_t id = list[first + std::uint32_t(j)].id;
-            if (lanes.t[j] < best.t || (lanes.t[j] == best.t && id < best.triangle)) {
-                best = Hit{lanes.t[j], id, lanes.u[j], lanes.v[j]};
-                w.tfar = best.t;
-                stop = key_stop(key_origin, best.t, step);
-            }
+            if (!(lanes.t[j] < best.t || (lanes.t[j] == best.t && id < best.triangle))) continue;
+            best = Hit{lanes.t[j], id, lanes.u[j], lanes.v[j]};
+            if constexpr (kAny) return best;
+            w.tfar = best.t;
+            stop = key_stop(key_origin, best.t, step);
         }
     }
     return best;
 }
 
-// Any hit of the segment; candidates with keys beyond `stop` (the segment's far end seen from the
-// cell's origins, margin included: key_stop) are not tested.
+// Closest hit along the ray.
+template <bool kCount>
+Hit closest_candidate(const TriangleKernels& kernels, std::span<const Candidate> list, const Ray& ray,
+                      float key_origin, float step, QueryCounters* counters) {
+    return scan_candidates<false, kCount>(kernels, list, ray, key_origin, step, key_stop(key_origin, ray.tfar, step),
+                                          counters);
+}
+
+// Any hit of the segment; candidates with keys beyond `stop` are not tested.
 template <bool kCount>
 bool any_candidate(const TriangleKernels& kernels, std::span<const Candidate> list, const Ray& ray, float stop,
                    QueryCounters* counters) {
-    const WatertightRay w = make_watertight_ray(ray);
-    const std::uint32_t n = std::uint32_t(list.size());
-    for (std::uint32_t first = 0; first < n; first += 8) {
-        if (list[first].key > stop) break;
-        LaneHits lanes;
-        const int count = test_batch(kernels, w, list, first, lanes);
-        if constexpr (kCount) {
-            counters->raycls.candidates += std::uint64_t(count);
-            counters->triangle_tests += std::uint64_t(count);
-        }
-        if (lanes.mask) return true;
-    }
-    return false;
+    return scan_candidates<true, kCount>(kernels, list, ray, 0.0f, 0.0f, stop, counters).hit();
 }
 
 }  // namespace beamtrace::raycls
