@@ -4,7 +4,9 @@
 
 #include "beamtrace/error.hpp"
 #include "cli/commands.hpp"
+#include "experiments/animation_run.hpp"
 #include "experiments/bench_run.hpp"
+#include "scenes/animations.hpp"
 
 namespace beamtrace::cli {
 
@@ -31,6 +33,8 @@ struct BenchArgs {
     double crsh_budget_millions = double(workload::EngineOptions::kDefaultCrshBudget) / 1e6;
     std::vector<int> lists_grid = {2, 2, 2};
     SortedListRules lists;
+    std::string animation;
+    int frames = 24, samples_per_frame = 1;
 };
 
 std::string bench_header(const workload::BenchResult& r) {
@@ -51,17 +55,78 @@ std::string bench_header(const workload::BenchResult& r) {
     return header;
 }
 
+std::string animation_header(const workload::AnimationResult& r) {
+    char buf[768];
+    std::snprintf(buf, sizeof buf,
+                  "animation %s on %s (%zu triangles, %zu moving, %zu keyframes): %s\n%d frames of %dx%d, %d time%s "
+                  "per frame, primary + shadow rays, %llu rays, %d thread%s; totals over all frames (build + trace)\n",
+                  r.animation.c_str(), r.base_scene.c_str(), r.triangles, r.moving_triangles, r.keyframes,
+                  r.description.c_str(), r.frames, r.width, r.height, r.samples_per_frame,
+                  r.samples_per_frame == 1 ? "" : "s", static_cast<unsigned long long>(r.rays), r.threads,
+                  r.threads == 1 ? "" : "s");
+    std::string header = buf;
+    header += r.anchor ? "anchor: " + *r.anchor + ", the Embree engine with the smallest total\n"
+                       : std::string("no anchor: this run has no Embree engine\n");
+    if (r.best_rebuild) header += "best per-frame rebuild: " + *r.best_rebuild + "\n";
+    return header;
+}
+
+// beamtrace bench --animation: the options that make sense for an animation, the run, the report.
+void run_animation_bench(const BenchArgs& args, const workload::EngineOptions& engine_options) {
+    if (args.rays.mode != "primary" || args.rays.lights != 0 || args.rays.area_light || args.rays.order != "input")
+        throw Error("--animation traces each frame's primary rays and their shadow rays to one point light: --mode, "
+                    "--lights, --area-light and --order do not apply");
+    if (!args.scene.camera.empty())
+        throw Error("--animation: the camera is the animation's (--camera does not apply)");
+    workload::AnimationConfig config;
+    config.animation = args.animation;
+    if (!args.scene.scene.empty()) config.scene = args.scene.scene;
+    config.frames = args.frames;
+    config.samples_per_frame = args.samples_per_frame;
+    config.width = args.scene.width;
+    config.height = args.scene.height;
+    if (!args.rays.light.empty()) config.light = scenes::parse_point(args.rays.light, "--light");
+    config.validate();
+    workload::AnimationBenchOptions options;
+    options.engines = split_list(args.engines);
+    options.threads = args.scene.threads;
+    options.engine_options = engine_options;
+    options.progress = true;
+    options.anchor_engines = args.anchor_engines;
+    for (const std::string& e : options.engines) workload::make_animated_engine(e);  // unknown names first
+    const workload::AnimationResult result = workload::run_animation(config, options);
+    const std::string header = animation_header(result);
+    const report::Table table = workload::to_table(result);
+    std::printf("%s\n%s", header.c_str(), table.text().c_str());
+    std::fflush(stdout);
+    if (!args.json.empty()) write_text(args.json, workload::to_json(result).dump(2) + "\n");
+    if (!args.markdown.empty()) write_text(args.markdown, header + "\n" + table.markdown());
+}
+
 }  // namespace
 
 std::function<void()> add_bench_command(CLI::App& app) {
     auto args = std::make_shared<BenchArgs>();
     CLI::App* cmd = app.add_subcommand("bench", "time engines on the same rays and compare every hit with Embree");
-    add_scene_options(*cmd, args->scene);
+    add_scene_options(*cmd, args->scene, false);
     add_ray_options(*cmd, args->rays);
+    cmd->add_option("--animation", args->animation,
+                    "time an animation instead of one image: " + scenes::animation_spec_help() +
+                        "; each frame's primary and shadow rays, totals over all frames; --scene is the scene it "
+                        "animates (default room); engines: raycls-st, embree-mb, embree-refit, embree-dynamic or any "
+                        "engine above (rebuilt for each time)");
+    cmd->add_option("--frames", args->frames, "--animation: frames over the animation's time [0, 1]")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 100000));
+    cmd->add_option("--samples-per-frame", args->samples_per_frame,
+                    "--animation: distinct ray times per frame (shared jitter offsets; 1: the frame's middle)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 64));
     std::string names;
     for (const std::string& n : workload::engine_names()) names += (names.empty() ? "" : ", ") + n;
     cmd->add_option("--engines", args->engines, "comma-separated engines: " + names)->required();
-    cmd->add_option("--repeats", args->repeats, "timed runs per engine (the best is reported)")
+    cmd->add_option("--repeats", args->repeats,
+                    "timed runs per engine (the best is reported; an animation is one run of all its frames)")
         ->capture_default_str()
         ->check(CLI::Range(1, 1000));
     cmd->add_option("--kd-traversal-cost", args->kd.traversal_cost, "kd-tree SAH: cost of a traversal step")
@@ -218,6 +283,11 @@ std::function<void()> add_bench_command(CLI::App& app) {
             args->lists.grid[a] = args->lists_grid[args->lists_grid.size() == 3 ? std::size_t(a) : 0];
         args->lists.validate();
         bo.engine_options.lists = args->lists;
+        if (!args->animation.empty()) {
+            run_animation_bench(*args, bo.engine_options);
+            return;
+        }
+        if (args->scene.scene.empty()) throw Error("--scene is required (or --animation)");
         for (const std::string& e : bo.engines) workload::make_engine(e);  // reject unknown names before loading
         const workload::Workload w = workload::make_workload(wc);
         const workload::BenchResult result = workload::run_bench(w, bo);

@@ -24,7 +24,8 @@ struct SceneOptions {
     int width = 1024, height = 1024;
     int threads = 1;
 };
-void add_scene_options(CLI::App& command, SceneOptions& options);
+// scene_required false: the command checks --scene itself (bench: not needed with --animation).
+void add_scene_options(CLI::App& command, SceneOptions& options, bool scene_required = true);
 
 // "a,b,,c" -> {"a", "b", "c"}.
 std::vector<std::string> split_list(const std::string& text);

@@ -15,9 +15,10 @@
 
 namespace beamtrace::cli {
 
-void add_scene_options(CLI::App& command, SceneOptions& o) {
-    command.add_option("--scene", o.scene, "scene: a mesh file or a generator\n" + scenes::scene_spec_help())
-        ->required();
+void add_scene_options(CLI::App& command, SceneOptions& o, bool scene_required) {
+    CLI::Option* scene =
+        command.add_option("--scene", o.scene, "scene: a mesh file or a generator\n" + scenes::scene_spec_help());
+    if (scene_required) scene->required();
     command.add_option("--camera", o.camera,
                        "EX,EY,EZ,AX,AY,AZ,FOVY: eye, look-at point, vertical field of view in degrees (default: the "
                        "scene's own view)");

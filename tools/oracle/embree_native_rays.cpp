@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <string>
 
 #include "beamtrace/error.hpp"
 #include "oracle/embree_ray_fill.hpp"
@@ -23,7 +24,7 @@ struct alignas(64) ValidMask16 {
 }  // namespace
 
 struct EmbreeNativeRays::Layout {
-    const EmbreeOracle* oracle = nullptr;
+    const EmbreeTarget* target = nullptr;
     RTCScene scene = nullptr;
     EmbreeLayout kind = EmbreeLayout::single;
     bool closest = true;
@@ -54,16 +55,20 @@ struct EmbreeNativeRays::Layout {
     float caller_t(std::size_t k, float t) const { return t / t_scale[k] + shift[k]; }
 };
 
-EmbreeNativeRays::EmbreeNativeRays(const EmbreeOracle& oracle, EmbreeLayout layout, std::span<const Packet16> packets,
-                                   bool closest_hit)
+EmbreeNativeRays::EmbreeNativeRays(const EmbreeTarget& target, EmbreeLayout layout, std::span<const Packet16> packets,
+                                   bool closest_hit, std::span<const float> slot_time)
     : layout_(std::make_unique<Layout>()) {
     Layout& m = *layout_;
-    m.oracle = &oracle;
-    m.scene = oracle.native_scene();
+    m.target = &target;
+    m.scene = target.native_scene();
+    if (!slot_time.empty() && slot_time.size() != packets.size() * 16)
+        throw Error("embree rays: " + std::to_string(slot_time.size()) + " slot times for " +
+                    std::to_string(packets.size() * 16) + " slots");
+    const auto time_of = [&](std::size_t slot) { return slot_time.empty() ? 0.0f : slot_time[slot]; };
     m.kind = layout;
     m.closest = closest_hit;
     m.slots = packets.size() * 16;
-    if (m.scene == nullptr) throw Error("embree rays: the oracle has no scene");
+    if (m.scene == nullptr) throw Error("embree rays: the target has no scene");
 
     if (layout == EmbreeLayout::packet16) {
         for (std::size_t p = 0; p < packets.size(); ++p) {
@@ -85,10 +90,11 @@ EmbreeNativeRays::EmbreeNativeRays(const EmbreeOracle& oracle, EmbreeLayout layo
                 v.lane[i] = lane[i] ? -1 : 0;
                 m.rays += lane[i].has_value();
                 const EmbreeSegment& s = lane[i] ? *lane[i] : kIdleLane;
+                const float time = time_of(p * 16 + std::size_t(i));
                 if (m.closest)
-                    fill_lane(m.hit16.back().ray, i, s);
+                    fill_lane(m.hit16.back().ray, i, s, time);
                 else
-                    fill_lane(m.ray16.back(), i, s);
+                    fill_lane(m.ray16.back(), i, s, time);
                 m.keep_conversion(s);
             }
         }
@@ -102,9 +108,9 @@ EmbreeNativeRays::EmbreeNativeRays(const EmbreeOracle& oracle, EmbreeLayout layo
                 if (slot > 0xFFFFFFFFu) throw Error("embree rays: more than 2^32 ray slots");
                 m.slot_of.push_back(std::uint32_t(slot));
                 if (m.closest)
-                    fill_ray(m.hit1.emplace_back().ray, *s);
+                    fill_ray(m.hit1.emplace_back().ray, *s, time_of(slot));
                 else
-                    fill_ray(m.ray1.emplace_back(), *s);
+                    fill_ray(m.ray1.emplace_back(), *s, time_of(slot));
                 m.keep_conversion(*s);
                 ++m.rays;
             }
@@ -201,7 +207,7 @@ void EmbreeNativeRays::hits(std::vector<Hit>& out) const {
             for (int i = 0; i < 16; ++i) {
                 if (m.valid[k].lane[i] == 0 || rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
                 out[std::size_t(m.packet_of[k]) * 16 + std::size_t(i)] =
-                    Hit{m.caller_t(k * 16 + std::size_t(i), rh.ray.tfar[i]), m.oracle->triangle_id(rh.hit.primID[i]),
+                    Hit{m.caller_t(k * 16 + std::size_t(i), rh.ray.tfar[i]), m.target->triangle_id(rh.hit.geomID[i], rh.hit.primID[i]),
                         rh.hit.u[i], rh.hit.v[i]};
             }
         }
@@ -210,7 +216,7 @@ void EmbreeNativeRays::hits(std::vector<Hit>& out) const {
     for (std::size_t k = 0; k < m.slot_of.size(); ++k) {
         const RTCRayHit& rh = m.hit1[k];
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-        out[m.slot_of[k]] = Hit{m.caller_t(k, rh.ray.tfar), m.oracle->triangle_id(rh.hit.primID), rh.hit.u, rh.hit.v};
+        out[m.slot_of[k]] = Hit{m.caller_t(k, rh.ray.tfar), m.target->triangle_id(rh.hit.geomID, rh.hit.primID), rh.hit.u, rh.hit.v};
     }
 }
 

@@ -36,9 +36,11 @@ const char* to_string(EmbreeContextFlag flag);
 class EmbreeNativeRays {
 public:
     // Converts the active rays of the packets into the layout, for closest-hit queries
-    // (closest_hit) or occlusion queries. The oracle must outlive this object.
-    EmbreeNativeRays(const EmbreeOracle& oracle, EmbreeLayout layout, std::span<const Packet16> packets,
-                     bool closest_hit);
+    // (closest_hit) or occlusion queries. The target (the oracle, or an EmbreeAnimation) must outlive
+    // this object. slot_time: each slot's time (packets * 16 values; Embree's ray time, what motion
+    // blur reads), or empty for time 0.
+    EmbreeNativeRays(const EmbreeTarget& target, EmbreeLayout layout, std::span<const Packet16> packets,
+                     bool closest_hit, std::span<const float> slot_time = {});
     ~EmbreeNativeRays();
     EmbreeNativeRays(const EmbreeNativeRays&) = delete;
     EmbreeNativeRays& operator=(const EmbreeNativeRays&) = delete;

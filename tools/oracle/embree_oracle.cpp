@@ -14,38 +14,16 @@
 #include <vector>
 
 #include "beamtrace/error.hpp"
+#include "oracle/embree_device.hpp"
 #include "oracle/embree_ray_fill.hpp"
 
 namespace beamtrace::oracle {
 
 static_assert(sizeof(Float3) == 3 * sizeof(float), "Float3 must be three packed floats");
 
-namespace {
-
-const char* error_name(RTCError code) {
-    switch (code) {
-        case RTC_ERROR_NONE:
-            return "no error";
-        case RTC_ERROR_UNKNOWN:
-            return "unknown error";
-        case RTC_ERROR_INVALID_ARGUMENT:
-            return "invalid argument";
-        case RTC_ERROR_INVALID_OPERATION:
-            return "invalid operation";
-        case RTC_ERROR_OUT_OF_MEMORY:
-            return "out of memory";
-        case RTC_ERROR_UNSUPPORTED_CPU:
-            return "unsupported CPU";
-        case RTC_ERROR_CANCELLED:
-            return "cancelled";
-    }
-    return "unrecognised error code";
-}
-
-}  // namespace
-
 struct EmbreeOracle::Impl {
-    RTCDevice device = nullptr;
+    // Declared first: destroyed last, after the scene it made.
+    std::unique_ptr<EmbreeDevice> device;
     RTCScene scene = nullptr;
     // Embree primID -> scene triangle id; empty when they are equal (no degenerate triangles).
     std::vector<std::uint32_t> prim_to_triangle;
@@ -54,54 +32,23 @@ struct EmbreeOracle::Impl {
     std::size_t memory_bytes = 0;
     bool robust = true;
 
-    // Bytes currently allocated by the device, kept by the memory monitor callback (which Embree may
-    // call from its build threads concurrently).
-    std::atomic<std::int64_t> allocated{0};
-
-    std::mutex error_mutex;
-    std::string first_error;  // first error reported by the device's error callback
-
     Impl() = default;
     Impl(const Impl&) = delete;
     Impl& operator=(const Impl&) = delete;
     ~Impl() {
         if (scene != nullptr) rtcReleaseScene(scene);
-        if (device != nullptr) rtcReleaseDevice(device);
     }
 
     std::uint32_t triangle_id(unsigned prim) const { return prim_to_triangle.empty() ? prim : prim_to_triangle[prim]; }
-
-    static void on_error(void* user, RTCError code, const char* text) {
-        auto* impl = static_cast<Impl*>(user);
-        std::lock_guard<std::mutex> lock(impl->error_mutex);
-        if (impl->first_error.empty())
-            impl->first_error = std::string(error_name(code)) + (text != nullptr ? std::string(": ") + text : "");
-    }
-
-    static bool on_memory(void* user, ssize_t bytes, bool /*post*/) {
-        static_cast<Impl*>(user)->allocated.fetch_add(bytes, std::memory_order_relaxed);
-        return true;  // never veto an allocation
-    }
-
-    // Throws the first error Embree reported (if any) while doing `step`.
-    void check(const char* step) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        if (!first_error.empty()) throw Error(std::string("embree oracle: ") + step + " failed: " + first_error);
-    }
+    void check(const char* step) { device->check(step); }
 };
 
 EmbreeOracle::EmbreeOracle(const Scene& scene, const EmbreeSceneOptions& options) : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     const auto start = std::chrono::steady_clock::now();
 
-    m.device = rtcNewDevice("verbose=0");
-    if (m.device == nullptr)
-        throw Error(std::string("embree oracle: cannot create an Embree device: ") +
-                    error_name(rtcGetDeviceError(nullptr)));
-    rtcSetDeviceErrorFunction(m.device, &Impl::on_error, &m);
-    rtcSetDeviceMemoryMonitorFunction(m.device, &Impl::on_memory, &m);
-
-    m.scene = rtcNewScene(m.device);
+    m.device = std::make_unique<EmbreeDevice>("embree oracle");
+    m.scene = rtcNewScene(m.device->get());
     m.check("rtcNewScene");
     m.robust = options.robust;
     rtcSetSceneFlags(m.scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
@@ -119,7 +66,7 @@ EmbreeOracle::EmbreeOracle(const Scene& scene, const EmbreeSceneOptions& options
     m.embree_triangles = kept;
 
     if (kept > 0) {
-        RTCGeometry geometry = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        RTCGeometry geometry = rtcNewGeometry(m.device->get(), RTC_GEOMETRY_TYPE_TRIANGLE);
         m.check("rtcNewGeometry");
         rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
 
@@ -153,8 +100,7 @@ EmbreeOracle::EmbreeOracle(const Scene& scene, const EmbreeSceneOptions& options
     m.check("rtcCommitScene");
 
     m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const std::int64_t held = m.allocated.load();
-    m.memory_bytes = held > 0 ? static_cast<std::size_t>(held) : 0;
+    m.memory_bytes = m.device->bytes();
 }
 
 EmbreeOracle::~EmbreeOracle() = default;
@@ -238,5 +184,8 @@ std::size_t EmbreeOracle::embree_triangle_count() const { return impl_->embree_t
 bool EmbreeOracle::robust() const { return impl_->robust; }
 RTCSceneTy* EmbreeOracle::native_scene() const { return impl_->scene; }
 std::uint32_t EmbreeOracle::triangle_id(unsigned embree_prim) const { return impl_->triangle_id(embree_prim); }
+std::uint32_t EmbreeOracle::triangle_id(unsigned /*geometry*/, unsigned embree_prim) const {
+    return impl_->triangle_id(embree_prim);
+}
 
 }  // namespace beamtrace::oracle

@@ -31,8 +31,8 @@
 
 #include "beamtrace/ray.hpp"
 #include "beamtrace/scene.hpp"
+#include "oracle/embree_target.hpp"
 
-struct RTCSceneTy;  // Embree's scene (RTCScene is a pointer to it); declared here so that no Embree header leaks
 
 namespace beamtrace::oracle {
 
@@ -43,14 +43,14 @@ struct EmbreeSceneOptions {
     bool robust = true;
 };
 
-class EmbreeOracle {
+class EmbreeOracle : public EmbreeTarget {
 public:
     // Builds an Embree scene (RTC_SCENE_FLAG_ROBUST unless options say otherwise,
     // RTC_BUILD_QUALITY_HIGH) from a copy of the scene's vertices and indices; nothing is shared with
     // the Scene afterwards. Throws beamtrace::Error with Embree's error text if the device, the scene
     // or the build fails.
     explicit EmbreeOracle(const Scene& scene, const EmbreeSceneOptions& options = {});
-    ~EmbreeOracle();
+    ~EmbreeOracle() override;
     EmbreeOracle(EmbreeOracle&&) noexcept;
     EmbreeOracle& operator=(EmbreeOracle&&) noexcept;
     EmbreeOracle(const EmbreeOracle&) = delete;
@@ -78,8 +78,9 @@ public:
 
     // For callers that issue Embree queries themselves (EmbreeNativeRays: rays prebuilt in
     // Embree's layouts): the committed scene, and the scene's triangle id of an Embree primID.
-    RTCSceneTy* native_scene() const;
+    RTCSceneTy* native_scene() const override;
     std::uint32_t triangle_id(unsigned embree_prim) const;
+    std::uint32_t triangle_id(unsigned geometry, unsigned embree_prim) const override;
 
 private:
     struct Impl;

@@ -7,7 +7,7 @@
 
 namespace beamtrace::oracle {
 
-inline void fill_ray(RTCRay& out, const EmbreeSegment& s) {
+inline void fill_ray(RTCRay& out, const EmbreeSegment& s, float time = 0.0f) {
     out.org_x = s.org.x;
     out.org_y = s.org.y;
     out.org_z = s.org.z;
@@ -16,14 +16,14 @@ inline void fill_ray(RTCRay& out, const EmbreeSegment& s) {
     out.dir_z = s.dir.z;
     out.tnear = s.tnear;
     out.tfar = s.tfar;
-    out.time = 0.0f;
+    out.time = time;
     out.mask = 0xFFFFFFFFu;
     out.id = 0;
     out.flags = 0;
 }
 
 template <class Ray16>
-void fill_lane(Ray16& out, int i, const EmbreeSegment& s) {
+void fill_lane(Ray16& out, int i, const EmbreeSegment& s, float time = 0.0f) {
     out.org_x[i] = s.org.x;
     out.org_y[i] = s.org.y;
     out.org_z[i] = s.org.z;
@@ -32,7 +32,7 @@ void fill_lane(Ray16& out, int i, const EmbreeSegment& s) {
     out.dir_z[i] = s.dir.z;
     out.tnear[i] = s.tnear;
     out.tfar[i] = s.tfar;
-    out.time[i] = 0.0f;
+    out.time[i] = time;
     out.mask[i] = 0xFFFFFFFFu;
     out.id[i] = static_cast<unsigned>(i);
     out.flags[i] = 0;
