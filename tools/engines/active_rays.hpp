@@ -52,6 +52,9 @@ struct PreparedRays {
     bool ready_for(const RaySet& rays) const {
         return for_set == &rays && packets == rays.packets.data() && active.rays.size() == rays.ray_count;
     }
+    // Forgets the rays prepared (an engine's build() does: a later ray set may sit at the same
+    // address with the same count, and the identity above would take it for the old one).
+    void forget() { *this = PreparedRays{}; }
     void prepare(const RaySet& rays) {
         if (ready_for(rays)) return;
         active = active_rays(rays);

@@ -1,5 +1,6 @@
 // The animated engines' registry, and the per-time rebuild that turns any static engine into one.
 #include <chrono>
+#include <deque>
 
 #include "beamtrace/error.hpp"
 #include "engines/animated_engine.hpp"
@@ -38,6 +39,7 @@ public:
         answers.primary.assign(frame.primary.slots(), Hit{});
         answers.shadow.assign(frame.shadow.slots(), 0);
         const bool one_time = frame.times.size() == 1;
+        std::deque<RaySet> subsets;
         for (const float t : frame.times) {
             const auto begin = std::chrono::steady_clock::now();
             {
@@ -46,9 +48,14 @@ public:
             }
             seconds.build += seconds_since(begin);
             memory_ = std::max(memory_, engine_->memory_bytes());
-            for (const RaySet* all : {&frame.primary, &frame.shadow}) {
-                const RaySet subset = one_time ? RaySet{} : rays_at_time(*all, frame.slot_time, t);
-                const RaySet& rays = one_time ? *all : subset;
+            // Each time's subsets live until the frame is done: engines know prepared rays by address.
+            if (!one_time) {
+                subsets.push_back(rays_at_time(frame.primary, frame.slot_time, t));
+                subsets.push_back(rays_at_time(frame.shadow, frame.slot_time, t));
+            }
+            for (int which = 0; which < 2; ++which) {
+                const RaySet& rays =
+                    one_time ? (which == 0 ? frame.primary : frame.shadow) : subsets[subsets.size() - 2 + std::size_t(which)];
                 engine_->prepare(rays);
                 const std::size_t variants = std::max<std::size_t>(1, engine_->timing_variants().size());
                 double best = 1e300;
@@ -56,7 +63,7 @@ public:
                 for (std::size_t v = 0; v < variants; ++v)
                     best = std::min(best, engine_->timed_pass(rays, a, threads, int(v)));
                 seconds.trace += best;
-                if (all == &frame.primary)
+                if (which == 0)
                     merge_at_time(a.hits, frame.slot_time, t, answers.primary);
                 else
                     merge_at_time(a.occluded, frame.slot_time, t, answers.shadow);

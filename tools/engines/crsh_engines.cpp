@@ -28,6 +28,7 @@ public:
     std::string name() const override { return sort_ ? "crsh" : "rah"; }
 
     void build(const Scene& scene, const EngineOptions& options) override {
+        prepared_.forget();
         CrshSettings s = options.crsh;
         s.sort = sort_;
         s.object_spheres = sort_;

@@ -46,6 +46,8 @@ public:
     explicit EmbreeEngine(EmbreeLayout layout) : layout_(layout) {}
     std::string name() const override { return engine_name(layout_); }
     void build(const Scene& scene, const EngineOptions& options) override {
+        native_.reset();  // its rays point into the old Embree scene
+        prepared_for_ = nullptr;
         oracle_ = std::make_unique<oracle::EmbreeOracle>(scene, oracle::EmbreeSceneOptions{options.embree_robust});
     }
     double build_seconds() const override { return oracle_->build_seconds(); }

@@ -35,6 +35,7 @@ class Kd1Engine : public Engine {
 public:
     std::string name() const override { return "kd1"; }
     void build(const Scene& scene, const EngineOptions& options) override {
+        prepared_.forget();
         tree_ = std::make_unique<KdTree>(KdTree::build(scene, options.kd_rules, options.build_progress));
     }
     double build_seconds() const override { return tree_->stats().build_seconds; }

@@ -21,6 +21,7 @@ public:
     std::string name() const override { return flat_ ? "lists-flat" : "lists"; }
 
     void build(const Scene& scene, const EngineOptions& options) override {
+        prepared_.forget();
         const std::size_t limit = flat_ ? kMaxFlatTriangles : kMaxTriangles;
         if (scene.triangle_count() > limit)
             throw Error(

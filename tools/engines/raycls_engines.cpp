@@ -14,6 +14,7 @@ class RayClsEngine : public Engine {
 public:
     std::string name() const override { return "raycls"; }
     void build(const Scene& scene, const EngineOptions& options) override {
+        prepared_.forget();
         tree_ = std::make_unique<KdTree>(KdTree::build(scene, options.kd_rules, options.build_progress));
         raycls_ = std::make_unique<RayClassification>(*tree_, options.raycls);
     }

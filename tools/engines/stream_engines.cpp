@@ -18,6 +18,7 @@ class StreamEngine : public Engine {
 public:
     std::string name() const override { return "stream"; }
     void build(const Scene& scene, const EngineOptions& options) override {
+        prepared_.forget();
         tree_ = build_packet_tree(scene, options);
         tracer_ = std::make_unique<StreamTracer>(*tree_, options.stream);
     }
@@ -83,6 +84,8 @@ class EmbreeSortedEngine : public Engine {
 public:
     std::string name() const override { return "embree-sorted"; }
     void build(const Scene& scene, const EngineOptions& options) override {
+        native_.reset();  // its rays point into the old Embree scene
+        prepared_.forget();
         oracle_ = std::make_unique<oracle::EmbreeOracle>(scene, oracle::EmbreeSceneOptions{options.embree_robust});
         bounds_ = scene.bounds();
         settings_ = options.stream;
