@@ -29,18 +29,24 @@ float key_of(const Box& b, int face) {
 
 void sort_by_key(std::vector<MovingCandidate>& items) {
     std::sort(items.begin(), items.end(), [](const MovingCandidate& a, const MovingCandidate& b) {
-        return a.key < b.key || (a.key == b.key && a.id < b.id);
+        return a.key < b.key || (a.key == b.key && a.index < b.index);
     });
 }
 
-// Up to eight candidates from `first`, placed at `time`, against the ray.
+// Up to eight candidates from `first`, placed at `time` (read from `placed` when given), against the
+// ray; batch[j] is candidate j as tested.
 int test_at_time(const MovingContext& c, const WatertightRay& w, const std::vector<MovingCandidate>& items,
-                 std::size_t first, float time, Triangle (&tris)[8], LaneHits& lanes) {
+                 std::size_t first, float time, const Triangle* placed, Triangle (&tris)[8],
+                 const Triangle* (&batch)[8], LaneHits& lanes) {
     const int count = int(std::min<std::size_t>(8, items.size() - first));
-    const Triangle* batch[8];
     for (int j = 0; j < count; ++j) {
-        tris[j] = c.scene->triangle_at(items[first + std::size_t(j)].id, time);
-        batch[j] = &tris[j];
+        const std::uint32_t index = items[first + std::size_t(j)].index;
+        if (placed) {
+            batch[j] = placed + index;
+        } else {
+            tris[j] = c.scene->triangle_at((*c.moving)[index], time);
+            batch[j] = &tris[j];
+        }
     }
     if (count <= 4)
         c.kernels->ray_x4(w, batch, count, lanes);
@@ -50,6 +56,11 @@ int test_at_time(const MovingContext& c, const WatertightRay& w, const std::vect
 }
 
 }  // namespace
+
+void place_moving(const MovingContext& context, float t, std::vector<Triangle>& out) {
+    out.resize(context.moving->size());
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = context.scene->triangle_at((*context.moving)[i], t);
+}
 
 void MovingContext::add(std::size_t b, std::size_t n) {
     const std::size_t now = bytes.fetch_add(b, std::memory_order_relaxed) + b;
@@ -72,32 +83,20 @@ std::size_t MovingBin::bytes_of(const MovingCell& c) const {
 }
 
 MovingBin::MovingBin(MovingContext& context, float t0, float t1) : context_(context) {
-    std::vector<Box> swept;
-    swept.reserve(context.moving->size());
-    for (std::uint32_t id : *context.moving) swept.push_back(context.scene->swept_bounds(id, t0, t1));
-    for (int f = 0; f < 6; ++f) {
-        auto root = std::make_unique<MovingCell>();
-        for (int k = 0; k < 3; ++k) {
-            root->bounds.lo[k] = context.origins.lower[k];
-            root->bounds.hi[k] = context.origins.upper[k];
-        }
-        root->bounds.face = f;
-        root->items.reserve(swept.size());
-        for (std::size_t i = 0; i < swept.size(); ++i)
-            root->items.push_back(MovingCandidate{swept[i], key_of(swept[i], f), (*context.moving)[i]});
-        sort_by_key(root->items);
-        root->final = root->items.size() <= std::size_t(context.min_candidates) || context.max_depth == 0;
-        if (!root->final) {
-            root->children = std::make_unique<std::atomic<MovingCell*>[]>(32);
-            for (int i = 0; i < 32; ++i) root->children[std::size_t(i)].store(nullptr, std::memory_order_relaxed);
-        }
-        context_.add(bytes_of(*root), root->items.size());
-        roots_[f] = std::move(root);
-    }
+    swept_.reserve(context.moving->size());
+    for (std::uint32_t id : *context.moving) swept_.push_back(context.scene->swept_bounds(id, t0, t1));
+    space_.origins = context.origins;
+    space_.split_origins = true;
+    space_.max_depth = context.max_depth;
 }
 
 MovingBin::~MovingBin() {
-    for (auto& r : roots_) delete_cell(r.release());
+    delete_tree(space_);
+    for (auto& b : buffers_) delete_tree(*b);
+}
+
+void MovingBin::delete_tree(MovingTree& tree) const {
+    for (auto& r : tree.roots) delete_cell(r.exchange(nullptr));
 }
 
 void MovingBin::delete_cell(MovingCell* c) const {
@@ -108,95 +107,161 @@ void MovingBin::delete_cell(MovingCell* c) const {
     delete c;
 }
 
-MovingCell* MovingBin::make_child(const MovingCell& parent, int index) const {
+namespace {
+
+// A cell's children slots (32 for the 5D tree, 4 for a light buffer; 32 allocated either way).
+void open_cell(MovingCell& c) {
+    c.children = std::make_unique<std::atomic<MovingCell*>[]>(32);
+    for (int i = 0; i < 32; ++i) c.children[std::size_t(i)].store(nullptr, std::memory_order_relaxed);
+}
+
+// The cell stored in `slot`, made by `make` when missing (another thread may make it first).
+template <class Make, class Delete>
+MovingCell* cell_in(std::atomic<MovingCell*>& slot, Make&& make, Delete&& remove) {
+    MovingCell* next = slot.load(std::memory_order_acquire);
+    if (next) return next;
+    MovingCell* made = make();
+    MovingCell* expected = nullptr;
+    if (slot.compare_exchange_strong(expected, made, std::memory_order_acq_rel, std::memory_order_acquire))
+        return made;
+    remove(made);
+    return expected;
+}
+
+}  // namespace
+
+MovingCell* MovingBin::make_root(const MovingTree& tree, int face) const {
+    auto root = std::make_unique<MovingCell>();
+    for (int k = 0; k < 3; ++k) {
+        root->bounds.lo[k] = tree.origins.lower[k];
+        root->bounds.hi[k] = tree.origins.upper[k];
+    }
+    root->bounds.face = face;
+    const CellBeam beam = make_cell_beam(root->bounds, context_.origin_margin, context_.direction_margin);
+    for (std::size_t i = 0; i < swept_.size(); ++i)
+        if (tree.split_origins || box_side(beam, swept_[i]) != BoxSide::outside)
+            root->items.push_back(MovingCandidate{swept_[i], key_of(swept_[i], face), std::uint32_t(i)});
+    root->items.shrink_to_fit();
+    sort_by_key(root->items);
+    root->final = root->items.size() <= std::size_t(context_.min_candidates) || tree.max_depth == 0;
+    if (!root->final) open_cell(*root);
+    context_.add(bytes_of(*root), root->items.size());
+    return root.release();
+}
+
+MovingCell* MovingBin::make_child(const MovingTree& tree, const MovingCell& parent, int index) const {
     auto c = std::make_unique<MovingCell>();
-    c->bounds = child_bounds(parent.bounds, index, true);
+    c->bounds = child_bounds(parent.bounds, index, tree.split_origins);
     c->depth = parent.depth + 1;
     const CellBeam beam = make_cell_beam(c->bounds, context_.origin_margin, context_.direction_margin);
     for (const MovingCandidate& m : parent.items)
         if (box_side(beam, m.swept) != BoxSide::outside) c->items.push_back(m);
     c->items.shrink_to_fit();
-    c->final = c->items.size() <= std::size_t(context_.min_candidates) || c->depth >= context_.max_depth;
-    if (!c->final) {
-        c->children = std::make_unique<std::atomic<MovingCell*>[]>(32);
-        for (int i = 0; i < 32; ++i) c->children[std::size_t(i)].store(nullptr, std::memory_order_relaxed);
-    }
+    c->final = c->items.size() <= std::size_t(context_.min_candidates) || c->depth >= tree.max_depth;
+    if (!c->final) open_cell(*c);
     context_.add(bytes_of(*c), c->items.size());
     return c.release();
 }
 
-const MovingCell* MovingBin::cell_of(const Ray& r, float& key_origin, float& step) const {
-    const Box& box = context_.origins;
-    const Float3 inv{1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z};
-    float tmin, tmax;
-    if (!kdtree::clip_to_box(r, inv, box, tmin, tmax)) return nullptr;
-    float p[3];
-    for (int k = 0; k < 3; ++k) p[k] = std::clamp(r.org[k] + tmin * r.dir[k], box.lower[k], box.upper[k]);
-    const DirectionCode code = direction_code(r.dir);
-    MovingCell* c = roots_[code.face].get();
-    while (!c->final) {
-        std::atomic<MovingCell*>& slot = c->children[std::size_t(child_index(c->bounds, p, code.u, code.v, true))];
-        MovingCell* next = slot.load(std::memory_order_acquire);
-        if (!next) {
-            MovingCell* made = make_child(*c, int(&slot - &c->children[0]));
-            MovingCell* expected = nullptr;
-            if (slot.compare_exchange_strong(expected, made, std::memory_order_acq_rel, std::memory_order_acquire)) {
-                next = made;
-            } else {
-                delete_cell(made);  // another thread made the same cell first
-                next = expected;
-            }
-        }
-        c = next;
+const MovingTree& MovingBin::light_buffer(const Box& points, float grow) const {
+    constexpr std::size_t kMaxBuffers = 16;
+    std::lock_guard<std::mutex> lock(buffers_mutex_);
+    for (const auto& b : buffers_) {
+        const Box& o = b->origins;
+        if (o.lower.x <= points.lower.x && o.lower.y <= points.lower.y && o.lower.z <= points.lower.z &&
+            o.upper.x >= points.upper.x && o.upper.y >= points.upper.y && o.upper.z >= points.upper.z)
+            return *b;
     }
-    const int k = face_axis(code.face);
-    key_origin = float(face_sign(code.face)) * r.org[k];
-    step = std::fabs(r.dir[k]);
+    if (buffers_.size() >= kMaxBuffers) return space_;
+    auto b = std::make_unique<MovingTree>();
+    b->origins = points;
+    b->origins.lower = b->origins.lower - Float3{grow, grow, grow};
+    b->origins.upper = b->origins.upper + Float3{grow, grow, grow};
+    b->split_origins = false;
+    b->max_depth = context_.light_depth;
+    buffers_.push_back(std::move(b));
+    return *buffers_.back();
+}
+
+const MovingCell* MovingBin::cell_of(const MovingTree& tree, const float p[3], const DirectionCode& code) const {
+    auto& root_slot = const_cast<std::atomic<MovingCell*>&>(tree.roots[code.face]);
+    const auto remove = [this](MovingCell* c) { delete_cell(c); };
+    MovingCell* c = cell_in(root_slot, [&] { return make_root(tree, code.face); }, remove);
+    while (!c->final) {
+        const int index = child_index(c->bounds, p, code.u, code.v, tree.split_origins);
+        MovingCell* parent = c;
+        c = cell_in(parent->children[std::size_t(index)], [&] { return make_child(tree, *parent, index); }, remove);
+    }
     return c;
 }
 
 template <bool kAny, bool kCount>
-Hit MovingBin::scan(const Ray& ray, float time, Hit best, QueryCounters* counters) const {
+Hit MovingBin::scan(const Ray& ray, float time, const Triangle* placed, Hit best, QueryCounters* counters,
+                    const MovingTree& tree, Frame frame) const {
     if (!describes_segment(ray)) return best;
-    float key_origin = 0.0f, step = 0.0f;
-    const MovingCell* cell = cell_of(ray, key_origin, step);
-    if (!cell) return best;
+    float p[3] = {0.0f, 0.0f, 0.0f};  // not read by a light buffer (its origins are not split)
+    DirectionCode code;
+    if (frame == Frame::space) {
+        // The part of the segment inside the scene's box, classified from where it enters.
+        const Box& box = tree.origins;
+        const Float3 inv{1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};
+        float tmin, tmax;
+        if (!kdtree::clip_to_box(ray, inv, box, tmin, tmax)) return best;
+        for (int k = 0; k < 3; ++k) p[k] = std::clamp(ray.org[k] + tmin * ray.dir[k], box.lower[k], box.upper[k]);
+        code = direction_code(ray.dir);
+    } else if (frame == Frame::from_start) {
+        code = direction_code(ray.dir);
+    } else {
+        code = direction_code(Float3{-ray.dir.x, -ray.dir.y, -ray.dir.z});
+    }
+    const MovingCell* cell = cell_of(tree, p, code);
+    const int k = face_axis(code.face);
+    const float key_origin = float(face_sign(code.face)) * ray.org[k];
+    const float step = std::fabs(ray.dir[k]);
     WatertightRay w = make_watertight_ray(ray);
     if (best.hit()) w.tfar = best.t;
-    float stop = key_stop(key_origin, best.hit() ? best.t : ray.tfar, step);
+    // Seen from the light, the segment ends where the ray starts.
+    float stop = frame == Frame::from_end ? key_stop(key_origin, -ray.tnear, step)
+                                          : key_stop(key_origin, best.hit() ? best.t : ray.tfar, step);
     Triangle tris[8];
+    const Triangle* batch[8];
     for (std::size_t first = 0; first < cell->items.size(); first += 8) {
         if (cell->items[first].key > stop) break;
         LaneHits lanes;
-        const int count = test_at_time(context_, w, cell->items, first, time, tris, lanes);
+        const int count = test_at_time(context_, w, cell->items, first, time, placed, tris, batch, lanes);
         if constexpr (kCount) counters->triangle_tests += std::uint64_t(count);
         for (std::uint32_t m = lanes.mask; m; m &= m - 1) {
             const int j = __builtin_ctz(m);
-            const std::uint32_t id = cell->items[first + std::size_t(j)].id;
+            const std::uint32_t id = (*context_.moving)[cell->items[first + std::size_t(j)].index];
             if (!(lanes.t[j] < best.t || (lanes.t[j] == best.t && id < best.triangle))) continue;
-            if (zero_area(tris[j])) continue;
+            if (zero_area(*batch[j])) continue;
             best = Hit{lanes.t[j], id, lanes.u[j], lanes.v[j]};
             if constexpr (kAny) return best;
             w.tfar = best.t;
-            stop = key_stop(key_origin, best.t, step);
+            if (frame != Frame::from_end) stop = key_stop(key_origin, best.t, step);
         }
     }
     return best;
 }
 
 template <bool kCount>
-Hit MovingBin::closest(const Ray& ray, float time, Hit best, QueryCounters* counters) const {
-    return scan<false, kCount>(ray, time, best, counters);
+Hit MovingBin::closest(const Ray& ray, float time, const Triangle* placed, Hit best, QueryCounters* counters,
+                       const MovingTree& tree, Frame frame) const {
+    return scan<false, kCount>(ray, time, placed, best, counters, tree, frame);
 }
 
 template <bool kCount>
-bool MovingBin::any(const Ray& ray, float time, QueryCounters* counters) const {
-    return scan<true, kCount>(ray, time, Hit{}, counters).hit();
+bool MovingBin::any(const Ray& ray, float time, const Triangle* placed, QueryCounters* counters,
+                    const MovingTree& tree, Frame frame) const {
+    return scan<true, kCount>(ray, time, placed, Hit{}, counters, tree, frame).hit();
 }
 
-template Hit MovingBin::closest<true>(const Ray&, float, Hit, QueryCounters*) const;
-template Hit MovingBin::closest<false>(const Ray&, float, Hit, QueryCounters*) const;
-template bool MovingBin::any<true>(const Ray&, float, QueryCounters*) const;
-template bool MovingBin::any<false>(const Ray&, float, QueryCounters*) const;
+template Hit MovingBin::closest<true>(const Ray&, float, const Triangle*, Hit, QueryCounters*, const MovingTree&,
+                                      Frame) const;
+template Hit MovingBin::closest<false>(const Ray&, float, const Triangle*, Hit, QueryCounters*, const MovingTree&,
+                                       Frame) const;
+template bool MovingBin::any<true>(const Ray&, float, const Triangle*, QueryCounters*, const MovingTree&, Frame) const;
+template bool MovingBin::any<false>(const Ray&, float, const Triangle*, QueryCounters*, const MovingTree&,
+                                    Frame) const;
 
 }  // namespace beamtrace::raycls

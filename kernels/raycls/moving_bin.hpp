@@ -1,24 +1,28 @@
 #pragma once
 // The moving triangles of an AnimatedScene over one time bin [t0, t1]: a 5D tree (32 children a
 // level, as the static 5D tree) whose candidates are the triangles' swept boxes over the bin, made
-// lazily where rays arrive. A ray at time t in the bin tests its cell's candidates placed at t.
+// lazily where rays arrive; and, for calls whose rays share an end or start point, light buffers
+// around that point (origins not split: 4 children a level, deeper). A ray at time t in the bin
+// tests its cell's candidates placed at t.
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "beamtrace/animated_scene.hpp"
 #include "beamtrace/query.hpp"
 #include "common/triangle_kernels.hpp"
 #include "raycls/ray_space.hpp"
+#include "raycls/shared_point.hpp"
 
 namespace beamtrace::raycls {
 
 struct MovingCandidate {
     Box swept;  // the triangle at every time of the bin
     float key;  // s * the box's nearest coordinate on the face axis
-    std::uint32_t id;
+    std::uint32_t index;  // into MovingContext::moving
 };
 
 struct MovingCell {
@@ -36,6 +40,7 @@ struct MovingContext {
     const std::vector<std::uint32_t>* moving = nullptr;  // ids of the moving triangles
     Box origins;                                         // every triangle at every time
     int max_depth = 4, min_candidates = 6;
+    int light_depth = 10;  // levels of a light buffer (4 children each)
     double origin_margin = 0.0, direction_margin = 0.0;
     std::atomic<std::size_t> bytes{0}, peak_bytes{0};
     std::atomic<std::uint64_t> cells{0}, entries{0};
@@ -43,6 +48,17 @@ struct MovingContext {
     void add(std::size_t b, std::size_t n);
     void remove(std::size_t b, std::size_t n);
 };
+
+// One tree of a bin: the 5D tree over `origins` (split_origins) or a light buffer around a point.
+struct MovingTree {
+    Box origins;
+    bool split_origins = true;
+    int max_depth = 4;
+    std::atomic<MovingCell*> roots[6] = {};  // made when a ray first takes a face
+};
+
+// Every moving triangle of the context at time t (AnimatedScene::triangle_at), by index.
+void place_moving(const MovingContext& context, float t, std::vector<Triangle>& out);
 
 class MovingBin {
 public:
@@ -53,24 +69,40 @@ public:
 
     // Closest hit of the ray at `time` among the moving triangles, better than `best` (smaller t, at
     // equal t smaller id); returns best when none is. Occlusion: any hit within the segment.
+    // placed: every moving triangle at `time` (by index into MovingContext::moving, made by
+    // place_moving), or null to place each candidate as it is tested.
+    // tree: space_tree() or a light_buffer() of this bin; frame: how the ray is classified in it.
     template <bool kCount>
-    Hit closest(const Ray& ray, float time, Hit best, QueryCounters* counters) const;
+    Hit closest(const Ray& ray, float time, const Triangle* placed, Hit best, QueryCounters* counters,
+                const MovingTree& tree, Frame frame) const;
     template <bool kCount>
-    bool any(const Ray& ray, float time, QueryCounters* counters) const;
+    bool any(const Ray& ray, float time, const Triangle* placed, QueryCounters* counters, const MovingTree& tree,
+             Frame frame) const;
+
+    const MovingTree& space_tree() const { return space_; }
+    // The light buffer whose apex holds `points` (made when missing), or the 5D tree when there are
+    // too many already.
+    const MovingTree& light_buffer(const Box& points, float grow) const;
 
     std::atomic<std::uint64_t> last_used{0};
 
 private:
     // The ray's cell, its candidates in order; kAny: the first hit of the segment.
     template <bool kAny, bool kCount>
-    Hit scan(const Ray& ray, float time, Hit best, QueryCounters* counters) const;
-    const MovingCell* cell_of(const Ray& ray, float& key_origin, float& step) const;
-    MovingCell* make_child(const MovingCell& parent, int index) const;
+    Hit scan(const Ray& ray, float time, const Triangle* placed, Hit best, QueryCounters* counters,
+             const MovingTree& tree, Frame frame) const;
+    const MovingCell* cell_of(const MovingTree& tree, const float p[3], const DirectionCode& code) const;
+    MovingCell* make_root(const MovingTree& tree, int face) const;
+    MovingCell* make_child(const MovingTree& tree, const MovingCell& parent, int index) const;
     void delete_cell(MovingCell* c) const;
+    void delete_tree(MovingTree& tree) const;
     std::size_t bytes_of(const MovingCell& c) const;
 
     MovingContext& context_;
-    std::unique_ptr<MovingCell> roots_[6];
+    std::vector<Box> swept_;  // every moving triangle's box over the bin, by index
+    MovingTree space_;
+    mutable std::mutex buffers_mutex_;
+    mutable std::vector<std::unique_ptr<MovingTree>> buffers_;
 };
 
 }  // namespace beamtrace::raycls

@@ -16,6 +16,7 @@
 #include "kdtree/ray_traversal.hpp"
 #include "raycls/candidate_tests.hpp"
 #include "raycls/cell_tree.hpp"
+#include "raycls/shared_point.hpp"
 
 namespace beamtrace {
 
@@ -131,43 +132,22 @@ namespace {
 
 using Impl = RayClassification::Impl;
 
-// How a call classifies its rays.
-enum class Frame { space, from_start, from_end };
+using raycls::Frame;
+using raycls::origin_of;
 
 struct CallPlan {
     Frame frame = Frame::space;
     const CellTree* cells = nullptr;
 };
 
-inline float origin_of(const Ray& r, int k) { return r.org[k] + r.tnear * r.dir[k]; }
-
 // A shared end point (occlusion only: classified from the light) or a shared start point.
 CallPlan plan_call(const Impl& impl, std::span<const Ray> rays, bool occlusion) {
     CallPlan plan{Frame::space, impl.space.get()};
-    if (!impl.settings.light_buffers || rays.size() < kMinLightBufferRays) return plan;
-    Box starts, ends;
-    bool finite_ends = occlusion;
-    std::size_t valid = 0;
-    for (const Ray& r : rays) {
-        if (!describes_segment(r)) continue;
-        ++valid;
-        starts.extend(Float3{origin_of(r, 0), origin_of(r, 1), origin_of(r, 2)});
-        if (finite_ends) {
-            if (r.tfar == kInfinity) {
-                finite_ends = false;
-                continue;
-            }
-            ends.extend(r.org + r.dir * r.tfar);
-        }
-    }
-    if (valid == 0) return plan;
-    const float size = impl.shared_point_size;
-    auto small = [size](const Box& b) { return !b.empty() && std::isfinite(b.diagonal()) && b.diagonal() <= size; };
-    if (finite_ends && small(ends)) {
-        if (const CellTree* t = impl.light_buffer(ends)) return CallPlan{Frame::from_end, t};
-    } else if (small(starts)) {
-        if (const CellTree* t = impl.light_buffer(starts)) return CallPlan{Frame::from_start, t};
-    }
+    if (!impl.settings.light_buffers) return plan;
+    const raycls::SharedPoint shared =
+        raycls::find_shared_point(rays, occlusion, impl.shared_point_size, kMinLightBufferRays);
+    if (shared.frame != Frame::space)
+        if (const CellTree* t = impl.light_buffer(shared.points)) return CallPlan{shared.frame, t};
     return plan;
 }
 

@@ -62,6 +62,7 @@ struct SpaceTimeClassification::Impl {
     std::vector<std::uint32_t> moving;
     int bins = 1;
     float start = 0.0f, span = 1.0f;
+    float shared_point_size = 0.0f;  // largest box of shared points (light buffers' apex), as the static part's
     mutable raycls::MovingContext context;
     mutable std::vector<std::atomic<raycls::MovingBin*>> slots;
     mutable std::mutex make_mutex;
@@ -86,6 +87,7 @@ struct SpaceTimeClassification::Impl {
             scale = std::max({scale, std::fabs(context.origins.lower[k]), std::fabs(context.origins.upper[k])});
         context.origin_margin = double(scale) * 1e-5;
         context.direction_margin = 1e-6;
+        shared_point_size = scene.bounds().diagonal() * (1.0f / 4096.0f);
         slots = std::vector<std::atomic<raycls::MovingBin*>>(std::size_t(bins));
         for (auto& b : slots) b.store(nullptr);
     }
@@ -147,6 +149,70 @@ void check_times(const char* what, std::size_t rays, std::span<const float> time
             throw Error(std::string(what) + ": ray " + std::to_string(i) + " has a time that is not finite");
 }
 
+// The moving triangles placed once at each time of a call, when the call has few distinct times
+// and rays enough to pay for it (a frame's rays share a handful of jitter offsets): one placement
+// per triangle and time instead of one per candidate test. Otherwise each test places its triangle.
+class PlacedTimes {
+public:
+    PlacedTimes(const raycls::MovingContext& context, std::span<const float> times) {
+        constexpr std::size_t kMaxTimes = 16;
+        for (const float t : times) {
+            if (std::find(times_.begin(), times_.end(), t) != times_.end()) continue;
+            if (times_.size() == kMaxTimes) {
+                times_.clear();
+                return;
+            }
+            times_.push_back(t);
+        }
+        // Placing costs a triangle per moving triangle and time; a test without it costs one per candidate.
+        if (times.size() * 4 < context.moving->size() * times_.size()) {
+            times_.clear();
+            return;
+        }
+        placed_.resize(times_.size());
+        for (std::size_t i = 0; i < times_.size(); ++i) raycls::place_moving(context, times_[i], placed_[i]);
+    }
+    const Triangle* at(float t) const {
+        for (std::size_t i = 0; i < times_.size(); ++i)
+            if (times_[i] == t) return placed_[i].data();
+        return nullptr;
+    }
+
+private:
+    std::vector<float> times_;
+    std::vector<std::vector<Triangle>> placed_;
+};
+
+// Where one call's rays go in the moving part: the 5D tree of the ray's bin, or, when the call's rays
+// share an end or start point, that bin's light buffer around it. Per thread (the bin of the last
+// ray and its tree kept).
+class MovingPlan {
+public:
+    MovingPlan(const SpaceTimeClassification::Impl& impl, std::span<const Ray> rays, bool occlusion) : impl_(impl) {
+        if (impl.settings.space.light_buffers)
+            shared_ = raycls::find_shared_point(rays, occlusion, impl.shared_point_size, kMinLightBufferRays);
+    }
+    struct Place {
+        const raycls::MovingBin* bin = nullptr;
+        const raycls::MovingTree* tree = nullptr;
+        raycls::Frame frame = raycls::Frame::space;
+    };
+    void find(float time, Place& place) const {
+        const raycls::MovingBin& bin = impl_.bin(impl_.bin_of(time));
+        if (place.bin == &bin) return;
+        place.bin = &bin;
+        place.tree = shared_.frame == raycls::Frame::space
+                         ? &bin.space_tree()
+                         : &bin.light_buffer(shared_.points, impl_.shared_point_size * 0.25f);
+        place.frame = place.tree->split_origins ? raycls::Frame::space : shared_.frame;
+    }
+
+private:
+    static constexpr std::size_t kMinLightBufferRays = 64;
+    const SpaceTimeClassification::Impl& impl_;
+    raycls::SharedPoint shared_;
+};
+
 }  // namespace
 
 SpaceTimeClassification::SpaceTimeClassification(const AnimatedScene& scene, const SpaceTimeSettings& settings,
@@ -161,11 +227,15 @@ void SpaceTimeClassification::intersect(std::span<const Ray> rays, std::span<con
     if (impl_->moving.empty()) return;
     impl_->start_call();
     std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
+    const PlacedTimes placed(impl_->context, times);
+    const MovingPlan plan(*impl_, rays, false);
     run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
+        MovingPlan::Place place;
         for (std::size_t i = b; i < e; ++i) {
-            const raycls::MovingBin& bin = impl_->bin(impl_->bin_of(times[i]));
-            hits[i] = c ? bin.closest<true>(rays[i], times[i], hits[i], c)
-                        : bin.closest<false>(rays[i], times[i], hits[i], nullptr);
+            plan.find(times[i], place);
+            const Triangle* at = placed.at(times[i]);
+            hits[i] = c ? place.bin->closest<true>(rays[i], times[i], at, hits[i], c, *place.tree, place.frame)
+                        : place.bin->closest<false>(rays[i], times[i], at, hits[i], nullptr, *place.tree, place.frame);
         }
     });
 }
@@ -178,11 +248,18 @@ void SpaceTimeClassification::occluded(std::span<const Ray> rays, std::span<cons
     if (impl_->moving.empty()) return;
     impl_->start_call();
     std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
+    const PlacedTimes placed(impl_->context, times);
+    const MovingPlan plan(*impl_, rays, true);
     run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
+        MovingPlan::Place place;
         for (std::size_t i = b; i < e; ++i) {
             if (occluded[i]) continue;
-            const raycls::MovingBin& bin = impl_->bin(impl_->bin_of(times[i]));
-            occluded[i] = (c ? bin.any<true>(rays[i], times[i], c) : bin.any<false>(rays[i], times[i], nullptr)) ? 1 : 0;
+            plan.find(times[i], place);
+            const Triangle* at = placed.at(times[i]);
+            occluded[i] = (c ? place.bin->any<true>(rays[i], times[i], at, c, *place.tree, place.frame)
+                             : place.bin->any<false>(rays[i], times[i], at, nullptr, *place.tree, place.frame))
+                              ? 1
+                              : 0;
         }
     });
 }

@@ -3,6 +3,7 @@
 // bad input named.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 #include <string>
@@ -103,6 +104,29 @@ TEST(SpaceTime, AnswersAsKd1AndBruteForceOnTheSnapshot) {
         expect_as_snapshots(st, rays, times, 2);
         EXPECT_GT(st.stats().moving_cells, 0u);
         EXPECT_EQ(st.stats().moving_triangles, scene.moving_count());
+    }
+}
+
+// Calls whose rays share a start point (camera rays) or an end point (shadow rays to a point light)
+// go to light buffers around that point, in the moving part as in the static one: the same answers.
+TEST(SpaceTime, LightBuffersAnswerAsKd1AndBruteForceOnTheSnapshot) {
+    const AnimatedScene scene = soup_in_motion(600, 5, 4);
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(-1.5f, 1.5f);
+    const Float3 eye{0.1f, 2.2f, -2.5f}, light{-0.3f, 2.0f, 0.4f};
+    std::vector<Ray> from_eye, to_light;
+    for (int i = 0; i < 3000; ++i) {
+        const Float3 target{u(rng) * 0.5f, u(rng) * 0.5f, u(rng) * 0.5f};
+        from_eye.push_back(Ray{eye, 0.0f, target - eye, kInfinity});
+        const Float3 o{u(rng), u(rng), u(rng)};
+        to_light.push_back(Ray{o, 0.0f, light - o, 1.0f - 1e-4f});
+    }
+    for (const std::vector<float>& offsets : {std::vector<float>{0.3f}, std::vector<float>{0.1f, 0.55f, 0.9f}}) {
+        const SpaceTimeClassification st(scene);
+        std::vector<float> times(from_eye.size());
+        for (std::size_t i = 0; i < times.size(); ++i) times[i] = offsets[i % offsets.size()];
+        expect_as_snapshots(st, from_eye, times, 1);
+        expect_as_snapshots(st, to_light, times, 2);
     }
 }
 

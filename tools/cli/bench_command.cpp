@@ -35,6 +35,7 @@ struct BenchArgs {
     SortedListRules lists;
     std::string animation;
     int frames = 24, samples_per_frame = 1;
+    SpaceTimeSettings space_time;
 };
 
 std::string bench_header(const workload::BenchResult& r) {
@@ -118,6 +119,18 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--frames", args->frames, "--animation: frames over the animation's time [0, 1]")
         ->capture_default_str()
         ->check(CLI::Range(1, 100000));
+    cmd->add_option("--raycls-st-bins", args->space_time.time_bins,
+                    "raycls-st: time bins over the animation (0: automatic, from how far the moving triangles travel)")
+        ->capture_default_str();
+    cmd->add_option("--raycls-st-depth", args->space_time.max_depth,
+                    "raycls-st: levels of each time bin's 5D tree of moving triangles (32 children each, 0-8)")
+        ->capture_default_str();
+    cmd->add_option("--raycls-st-min-candidates", args->space_time.min_candidates,
+                    "raycls-st: moving cells with at most this many candidates are not subdivided")
+        ->capture_default_str();
+    cmd->add_option("--raycls-st-keep-calls", args->space_time.keep_calls,
+                    "raycls-st: a time bin no query used in this many calls is freed")
+        ->capture_default_str();
     cmd->add_option("--samples-per-frame", args->samples_per_frame,
                     "--animation: distinct ray times per frame (shared jitter offsets; 1: the frame's middle)")
         ->capture_default_str()
@@ -278,6 +291,8 @@ std::function<void()> add_bench_command(CLI::App& app) {
         bo.engine_options.crsh_budget = static_cast<std::uint64_t>(args->crsh_budget_millions * 1e6);
         args->raycls.validate();
         bo.engine_options.raycls = args->raycls;
+        args->space_time.validate();
+        bo.engine_options.space_time = args->space_time;
         if (args->lists_grid.size() == 2) throw Error("--lists-grid takes one number or three, not two");
         for (int a = 0; a < 3; ++a)
             args->lists.grid[a] = args->lists_grid[args->lists_grid.size() == 3 ? std::size_t(a) : 0];

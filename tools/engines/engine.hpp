@@ -18,6 +18,7 @@
 #include "beamtrace/ray_classification.hpp"
 #include "beamtrace/scene.hpp"
 #include "beamtrace/sorted_lists.hpp"
+#include "beamtrace/space_time_classification.hpp"
 #include "beamtrace/stream.hpp"
 #include "beamtrace/vlf.hpp"
 #include "rays/ray_set.hpp"
@@ -46,6 +47,8 @@ struct EngineOptions {
     std::uint64_t crsh_budget = kDefaultCrshBudget;
     // raycls: depths, candidates, cache, light buffers, memory budget.
     RayClsSettings raycls;
+    // raycls-st: time bins and the moving part's trees (its static part takes `raycls`).
+    SpaceTimeSettings space_time;
     static constexpr std::uint64_t kDefaultCrshBudget = 1'000'000'000ull;
     // lists, lists-flat: the hierarchy's rules (flat is the engine's).
     SortedListRules lists;

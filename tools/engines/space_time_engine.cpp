@@ -31,7 +31,7 @@ public:
     bool rebuilds_per_frame() const override { return false; }
 
     double start(const AnimatedScene& scene, const EngineOptions& options) override {
-        SpaceTimeSettings settings;
+        SpaceTimeSettings settings = options.space_time;
         settings.space = options.raycls;
         const auto begin = std::chrono::steady_clock::now();
         st_ = std::make_unique<SpaceTimeClassification>(scene, settings, options.kd_rules);
