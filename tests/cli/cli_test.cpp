@@ -248,3 +248,42 @@ TEST(Cli, PicturesOfShuffledRaysAreThePicturesOfRaysInImageOrder) {
         EXPECT_EQ(bytes[0], bytes[1]) << rays << ": the order changed the picture";
     }
 }
+
+TEST(Cli, BenchAnimationWritesTotalsOverAllFrames) {
+    const fs::path json = temp_dir() / "animation.json";
+    const CommandResult r = run("bench --animation comet --scene room-lite --frames 2 --width 32 --height 24 "
+                                "--engines raycls-st,kd1 --json " + json.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("animation comet"), std::string::npos) << r.output;
+    std::ifstream in(json);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_EQ(j["animation"], "comet");
+    EXPECT_EQ(j["frames"], 2);
+    EXPECT_EQ(j["width"], 32);
+    EXPECT_FALSE(j["anchor"].is_null());  // the Embree engines are added
+    EXPECT_EQ(j["best_rebuild"]["engine"].get<std::string>().rfind("embree", 0) == 0 ||
+                  j["best_rebuild"]["engine"] == "kd1",
+              true);
+    for (const char* e : {"raycls-st", "kd1", "embree-mb", "embree-refit", "embree-dynamic", "embree16"}) {
+        ASSERT_TRUE(j["engines"].contains(e)) << e;
+        EXPECT_GT(j["engines"][e]["total_seconds"].get<double>(), 0.0) << e;
+        EXPECT_EQ(j["engines"][e]["frame_seconds"].size(), 2u) << e;
+    }
+    EXPECT_EQ(j["engines"]["raycls-st"]["oracle"]["mismatch"], 0);
+    EXPECT_EQ(j["engines"]["kd1"]["oracle"]["mismatch"], 0);
+}
+
+TEST(Cli, BenchAnimationOptionsAreChecked) {
+    const std::string base = "bench --scene room-lite --width 16 --height 16 --engines raycls-st ";
+    for (const std::string bad : {"--animation dance", "--animation party:0", "--animation spin --frames 0",
+                                  "--animation spin --mode ao", "--animation spin --camera 0,1,2,3,4,5,60",
+                                  "--animation spin --samples-per-frame 65", "--animation spin --raycls-st-depth 9"}) {
+        const CommandResult r = run(base + bad);
+        EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.output;
+        EXPECT_LE(lines(r.output), 2) << bad << "\n" << r.output;
+    }
+    const CommandResult no_scene = run("bench --engines kd1");
+    EXPECT_EQ(no_scene.exit_code, 2);
+    EXPECT_NE(no_scene.output.find("--scene"), std::string::npos) << no_scene.output;
+    EXPECT_EQ(run("bench --animation spin --scene room-lite --engines nosuch").exit_code, 2);
+}
