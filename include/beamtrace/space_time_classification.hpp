@@ -32,6 +32,10 @@ struct SpaceTimeSettings {
     int min_candidates = 6;
     // A bin no call used in this many calls is freed at the start of the next.
     int keep_calls = 4;
+    // Not the thesis (docs/raycls.md): packet queries trace the static part with the kd-tree's
+    // interval traversal of 4x4 packets (kd16's) instead of the static classification; the moving
+    // part is classified as ever. Closest hits at equal t may then name another triangle of the tie.
+    bool static_packets = false;
 
     void validate() const;  // throws beamtrace::Error naming the bad setting
 };
@@ -59,6 +63,13 @@ public:
                    const QueryOptions& options = {}) const;
     void occluded(std::span<const Ray> rays, std::span<const float> times, std::span<std::uint8_t> occluded,
                   const QueryOptions& options = {}) const;
+    // 4x4 packets; slot_times[p * 16 + i] is the time of packet p's lane i (16 per packet, inactive
+    // lanes' ignored). The static part by packets (the classification's, or the kd-tree's with
+    // static_packets), the moving part ray by ray.
+    void intersect(std::span<const Packet16> packets, std::span<const float> slot_times,
+                   std::span<PacketHits16> hits, const QueryOptions& options = {}) const;
+    void occluded(std::span<const Packet16> packets, std::span<const float> slot_times,
+                  std::span<std::uint32_t> occluded, const QueryOptions& options = {}) const;
 
     // Frees every cell and bin. Not safe while another thread queries.
     void clear() const;

@@ -88,6 +88,7 @@ struct SpaceTimeClassification::Impl {
         context.origin_margin = double(scale) * 1e-5;
         context.direction_margin = 1e-6;
         shared_point_size = scene.bounds().diagonal() * (1.0f / 4096.0f);
+        if (settings.static_packets) still.kd_tree().prepare_packet_queries();
         slots = std::vector<std::atomic<raycls::MovingBin*>>(std::size_t(bins));
         for (auto& b : slots) b.store(nullptr);
     }
@@ -219,16 +220,16 @@ SpaceTimeClassification::SpaceTimeClassification(const AnimatedScene& scene, con
                                                  const KdBuildRules& rules)
     : impl_(std::make_shared<Impl>(scene, settings, rules)) {}
 
-void SpaceTimeClassification::intersect(std::span<const Ray> rays, std::span<const float> times, std::span<Hit> hits,
-                                        const QueryOptions& options) const {
-    check_query("SpaceTimeClassification::intersect", rays.size(), hits.size(), options);
-    check_times("SpaceTimeClassification::intersect", rays.size(), times);
-    impl_->still.intersect(rays, hits, options);
-    if (impl_->moving.empty()) return;
-    impl_->start_call();
-    std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
-    const PlacedTimes placed(impl_->context, times);
-    const MovingPlan plan(*impl_, rays, false);
+namespace {
+
+// The moving part of a closest-hit call: each ray's moving candidates, with its static hit as the bound.
+void moving_intersect(const SpaceTimeClassification::Impl& impl, std::span<const Ray> rays,
+                      std::span<const float> times, std::span<Hit> hits, const QueryOptions& options) {
+    if (impl.moving.empty()) return;
+    impl.start_call();
+    std::shared_lock<std::shared_mutex> use(impl.use_mutex);
+    const PlacedTimes placed(impl.context, times);
+    const MovingPlan plan(impl, rays, false);
     run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
         MovingPlan::Place place;
         for (std::size_t i = b; i < e; ++i) {
@@ -240,16 +241,14 @@ void SpaceTimeClassification::intersect(std::span<const Ray> rays, std::span<con
     });
 }
 
-void SpaceTimeClassification::occluded(std::span<const Ray> rays, std::span<const float> times,
-                                       std::span<std::uint8_t> occluded, const QueryOptions& options) const {
-    check_query("SpaceTimeClassification::occluded", rays.size(), occluded.size(), options);
-    check_times("SpaceTimeClassification::occluded", rays.size(), times);
-    impl_->still.occluded(rays, occluded, options);
-    if (impl_->moving.empty()) return;
-    impl_->start_call();
-    std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
-    const PlacedTimes placed(impl_->context, times);
-    const MovingPlan plan(*impl_, rays, true);
+// The moving part of an occlusion call, for the rays the static part left unoccluded.
+void moving_occluded(const SpaceTimeClassification::Impl& impl, std::span<const Ray> rays,
+                     std::span<const float> times, std::span<std::uint8_t> occluded, const QueryOptions& options) {
+    if (impl.moving.empty()) return;
+    impl.start_call();
+    std::shared_lock<std::shared_mutex> use(impl.use_mutex);
+    const PlacedTimes placed(impl.context, times);
+    const MovingPlan plan(impl, rays, true);
     run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
         MovingPlan::Place place;
         for (std::size_t i = b; i < e; ++i) {
@@ -262,6 +261,86 @@ void SpaceTimeClassification::occluded(std::span<const Ray> rays, std::span<cons
                               : 0;
         }
     });
+}
+
+// The active lanes of packets side by side, with their times (and the slot of each).
+struct PacketLanes {
+    std::vector<Ray> rays;
+    std::vector<float> times;
+    std::vector<std::uint32_t> slots;
+    PacketLanes(std::span<const Packet16> packets, std::span<const float> slot_times) {
+        for (std::size_t p = 0; p < packets.size(); ++p)
+            for (std::uint32_t m = packets[p].active & 0xFFFFu; m; m &= m - 1) {
+                const int i = __builtin_ctz(m);
+                rays.push_back(packets[p].ray(i));
+                times.push_back(slot_times[p * 16 + std::size_t(i)]);
+                slots.push_back(std::uint32_t(p * 16 + std::size_t(i)));
+            }
+    }
+};
+
+void check_packet_times(const char* what, std::size_t packets, std::span<const float> slot_times,
+                        std::span<const Packet16> lanes) {
+    if (slot_times.size() != packets * 16)
+        throw Error(std::string(what) + ": " + std::to_string(slot_times.size()) + " slot times for " +
+                    std::to_string(packets) + " packets (16 each)");
+    for (std::size_t p = 0; p < packets; ++p)
+        for (std::uint32_t m = lanes[p].active & 0xFFFFu; m; m &= m - 1) {
+            const std::size_t slot = p * 16 + std::size_t(__builtin_ctz(m));
+            if (!std::isfinite(slot_times[slot]))
+                throw Error(std::string(what) + ": slot " + std::to_string(slot) + " has a time that is not finite");
+        }
+}
+
+}  // namespace
+
+void SpaceTimeClassification::intersect(std::span<const Ray> rays, std::span<const float> times, std::span<Hit> hits,
+                                        const QueryOptions& options) const {
+    check_query("SpaceTimeClassification::intersect", rays.size(), hits.size(), options);
+    check_times("SpaceTimeClassification::intersect", rays.size(), times);
+    impl_->still.intersect(rays, hits, options);
+    moving_intersect(*impl_, rays, times, hits, options);
+}
+
+void SpaceTimeClassification::occluded(std::span<const Ray> rays, std::span<const float> times,
+                                       std::span<std::uint8_t> occluded, const QueryOptions& options) const {
+    check_query("SpaceTimeClassification::occluded", rays.size(), occluded.size(), options);
+    check_times("SpaceTimeClassification::occluded", rays.size(), times);
+    impl_->still.occluded(rays, occluded, options);
+    moving_occluded(*impl_, rays, times, occluded, options);
+}
+
+void SpaceTimeClassification::intersect(std::span<const Packet16> packets, std::span<const float> slot_times,
+                                        std::span<PacketHits16> hits, const QueryOptions& options) const {
+    check_query("SpaceTimeClassification::intersect", packets.size(), hits.size(), options);
+    check_packet_times("SpaceTimeClassification::intersect", packets.size(), slot_times, packets);
+    if (impl_->settings.static_packets)
+        impl_->still.kd_tree().intersect(packets, hits, options);
+    else
+        impl_->still.intersect(packets, hits, options);
+    if (impl_->moving.empty()) return;
+    const PacketLanes lanes(packets, slot_times);
+    std::vector<Hit> best(lanes.rays.size());
+    for (std::size_t k = 0; k < best.size(); ++k) best[k] = hits[lanes.slots[k] / 16].hit(int(lanes.slots[k] % 16));
+    moving_intersect(*impl_, lanes.rays, lanes.times, best, options);
+    for (std::size_t k = 0; k < best.size(); ++k) hits[lanes.slots[k] / 16].set_hit(int(lanes.slots[k] % 16), best[k]);
+}
+
+void SpaceTimeClassification::occluded(std::span<const Packet16> packets, std::span<const float> slot_times,
+                                       std::span<std::uint32_t> occluded, const QueryOptions& options) const {
+    check_query("SpaceTimeClassification::occluded", packets.size(), occluded.size(), options);
+    check_packet_times("SpaceTimeClassification::occluded", packets.size(), slot_times, packets);
+    if (impl_->settings.static_packets)
+        impl_->still.kd_tree().occluded(packets, occluded, options);
+    else
+        impl_->still.occluded(packets, occluded, options);
+    if (impl_->moving.empty()) return;
+    const PacketLanes lanes(packets, slot_times);
+    std::vector<std::uint8_t> any(lanes.rays.size());
+    for (std::size_t k = 0; k < any.size(); ++k) any[k] = (occluded[lanes.slots[k] / 16] >> (lanes.slots[k] % 16)) & 1u;
+    moving_occluded(*impl_, lanes.rays, lanes.times, any, options);
+    for (std::size_t k = 0; k < any.size(); ++k)
+        if (any[k]) occluded[lanes.slots[k] / 16] |= 1u << (lanes.slots[k] % 16);
 }
 
 Hit SpaceTimeClassification::intersect(const Ray& ray, float time) const {

@@ -130,6 +130,67 @@ TEST(SpaceTime, LightBuffersAnswerAsKd1AndBruteForceOnTheSnapshot) {
     }
 }
 
+// Packets (4x4, times per lane), the static part by the classification or by the kd-tree's packet
+// traversal (static_packets): every closest hit at brute force's t on the snapshot, naming brute
+// force's triangle or another one the ray meets at that t (a tie); occlusion as kd1 on the snapshot.
+TEST(SpaceTime, PacketsAnswerAsTheSnapshot) {
+    const AnimatedScene scene = soup_in_motion(600, 5, 6);
+    std::mt19937 rng(12);
+    std::uniform_real_distribution<float> u(-1.5f, 1.5f);
+    const Float3 eye{0.1f, 2.2f, -2.5f}, light{-0.3f, 2.0f, 0.4f};
+    std::vector<Packet16> camera(200), shadow(200);
+    std::vector<float> slot_times(200 * 16);
+    const float offsets[3] = {0.15f, 0.5f, 0.95f};
+    for (std::size_t p = 0; p < camera.size(); ++p)
+        for (int i = 0; i < 16; ++i) {
+            const Float3 target{u(rng) * 0.4f + 0.01f * float(i % 4), u(rng) * 0.4f + 0.01f * float(i / 4), u(rng) * 0.4f};
+            camera[p].set_ray(i, Ray{eye, 0.0f, target - eye, kInfinity});
+            const Float3 o{u(rng), u(rng), u(rng)};
+            shadow[p].set_ray(i, Ray{o, 0.0f, light - o, 1.0f - 1e-4f});
+            if ((p + std::size_t(i)) % 5 != 0) {  // some lanes off
+                camera[p].active |= 1u << i;
+                shadow[p].active |= 1u << i;
+            }
+            slot_times[p * 16 + std::size_t(i)] = offsets[(p * 16 + std::size_t(i)) % 3];
+        }
+    for (bool packets : {false, true}) {
+        SpaceTimeSettings s;
+        s.static_packets = packets;
+        const SpaceTimeClassification st(scene, s);
+        std::vector<PacketHits16> hits(camera.size());
+        std::vector<std::uint32_t> occ(shadow.size());
+        st.intersect(camera, slot_times, hits, QueryOptions{2, nullptr});
+        st.occluded(shadow, slot_times, occ, QueryOptions{1, nullptr});
+        std::size_t moving_hits = 0;
+        for (const float t : offsets) {
+            const Scene snapshot = scene.at(t);
+            const KdTree kd = KdTree::build(snapshot);
+            for (std::size_t p = 0; p < camera.size(); ++p)
+                for (int i = 0; i < 16; ++i) {
+                    const std::size_t slot = p * 16 + std::size_t(i);
+                    if (slot_times[slot] != t) continue;
+                    const bool on = (camera[p].active >> i) & 1u;
+                    const Hit got = hits[p].hit(i);
+                    if (!on) {
+                        ASSERT_FALSE(got.hit()) << "inactive lane " << slot;
+                        ASSERT_EQ((occ[p] >> i) & 1u, 0u) << "inactive lane " << slot;
+                        continue;
+                    }
+                    const Hit want = intersect_brute_force(snapshot, camera[p].ray(i));
+                    ASSERT_EQ(got.t, want.t) << "packets " << packets << " slot " << slot;
+                    if (got.triangle != want.triangle) {
+                        ASSERT_TRUE(packets) << "the classification names brute force's triangle, slot " << slot;
+                        const Scene alone(snapshot.vertices(), snapshot.indices().subspan(3 * std::size_t(got.triangle), 3));
+                        ASSERT_EQ(intersect_brute_force(alone, camera[p].ray(i)).t, want.t) << "a tie, slot " << slot;
+                    }
+                    moving_hits += want.hit() && scene.is_moving(want.triangle);
+                    ASSERT_EQ(((occ[p] >> i) & 1u) != 0, kd.occluded(shadow[p].ray(i))) << "occlusion, slot " << slot;
+                }
+        }
+        EXPECT_GT(moving_hits, 100u) << "the moving part answers nothing: the test tests too little";
+    }
+}
+
 TEST(SpaceTime, StillSceneIsTheStaticClassification) {
     const Scene base = soup_in_motion(300, 2, 8).at(0.0f);
     std::vector<Float3> keys(base.vertices().begin(), base.vertices().end());

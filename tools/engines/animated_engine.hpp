@@ -6,7 +6,7 @@
 // between frames (that is the point of raycls-st); the frames come in order.
 //
 // Engines: raycls-st (SpaceTimeClassification: the static part classified once, the moving triangles
-// per time bin), embree-mb (Embree's motion blur), embree-refit and embree-dynamic (Embree's dynamic
+// per time bin), raycls-st-packets (the same, its static part traced by the kd-tree's 4x4 packets), embree-mb (Embree's motion blur), embree-refit and embree-dynamic (Embree's dynamic
 // scene, moving triangles refitted or rebuilt per time), and every static engine of engine.hpp by its
 // own name, rebuilt on at(t) for each distinct time of a frame (what a renderer without motion support
 // does).
@@ -61,7 +61,7 @@ public:
     virtual nlohmann::json stats() const { return nlohmann::json::object(); }
 };
 
-// raycls-st, embree-mb, embree-refit, embree-dynamic, then every static engine name.
+// raycls-st, raycls-st-packets, embree-mb, embree-refit, embree-dynamic, then every static engine name.
 const std::vector<std::string>& animated_engine_names();
 // Throws beamtrace::Error naming the known engines for an unknown name.
 std::unique_ptr<AnimatedEngine> make_animated_engine(const std::string& name);
@@ -71,7 +71,8 @@ std::unique_ptr<AnimatedEngine> make_animated_engine(const std::string& name);
 RaySet rays_at_time(const RaySet& rays, const std::vector<float>& slot_time, float t);
 
 // Constructors (one per file).
-std::unique_ptr<AnimatedEngine> make_space_time_engine();
+// raycls-st, or raycls-st-packets (static part by the kd-tree's packet traversal).
+std::unique_ptr<AnimatedEngine> make_space_time_engine(bool packets);
 std::unique_ptr<AnimatedEngine> make_embree_motion_engine(oracle::EmbreeMotion motion);
 std::unique_ptr<AnimatedEngine> make_rebuild_engine(const std::string& static_engine);
 

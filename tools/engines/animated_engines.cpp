@@ -102,7 +102,7 @@ RaySet rays_at_time(const RaySet& rays, const std::vector<float>& slot_time, flo
 
 const std::vector<std::string>& animated_engine_names() {
     static const std::vector<std::string> names = [] {
-        std::vector<std::string> n = {"raycls-st", "embree-mb", "embree-refit", "embree-dynamic"};
+        std::vector<std::string> n = {"raycls-st", "raycls-st-packets", "embree-mb", "embree-refit", "embree-dynamic"};
         for (const std::string& s : engine_names()) n.push_back(s);
         return n;
     }();
@@ -110,7 +110,8 @@ const std::vector<std::string>& animated_engine_names() {
 }
 
 std::unique_ptr<AnimatedEngine> make_animated_engine(const std::string& name) {
-    if (name == "raycls-st") return make_space_time_engine();
+    if (name == "raycls-st") return make_space_time_engine(false);
+    if (name == "raycls-st-packets") return make_space_time_engine(true);
     if (name == "embree-mb") return make_embree_motion_engine(oracle::EmbreeMotion::motion_blur);
     if (name == "embree-refit") return make_embree_motion_engine(oracle::EmbreeMotion::dynamic_refit);
     if (name == "embree-dynamic") return make_embree_motion_engine(oracle::EmbreeMotion::dynamic_rebuild);
