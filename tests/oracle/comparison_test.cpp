@@ -68,6 +68,44 @@ TEST(Comparison, GrazingNearAnEdgeOfATriangleInvolved) {
     EXPECT_EQ(classify_hit(c, along_edge, Hit{4.0f, 4}, Hit{5.5f, 10}), Verdict::grazing);
 }
 
+// The segment ends (at tfar or tnear) within rounding of a triangle, far from its edges: the float t
+// of the two tracers may fall on either side of the end (room, AO along PSF directions: our
+// watertight t equal to tfar, Embree's 2 ulp beyond it, the exact crossing 1.2 ulp beyond).
+TEST(Comparison, GrazingWhereTheSegmentEndsOnATriangle) {
+    const Scene s = one_triangle();                                                   // reach 2.8e-5
+    const Ray ends_on_it = make_ray({0.5f, 0.5f, -2.0f}, {0, 0, 1}, 0.0f, 2.99999f);  // 1e-5 short of it
+    EXPECT_EQ(classify_hit(s, ends_on_it, Hit{2.99999f, 0}, kMiss), Verdict::grazing);
+    EXPECT_EQ(classify_hit(s, ends_on_it, kMiss, Hit{2.99999f, 0}), Verdict::grazing);
+    EXPECT_EQ(classify_occlusion(s, ends_on_it, true, false), Verdict::grazing);
+    EXPECT_EQ(classify_occlusion(s, ends_on_it, false, true), Verdict::grazing);
+    EXPECT_EQ(classify_occlusion(s, ends_on_it, false, true, 0), Verdict::grazing);
+    const Ray starts_on_it = make_ray({0.5f, 0.5f, -2.0f}, {0, 0, 1}, 3.00001f, 10.0f);  // 1e-5 beyond it
+    EXPECT_EQ(classify_hit(s, starts_on_it, Hit{3.00001f, 0}, kMiss), Verdict::grazing);
+    EXPECT_EQ(classify_occlusion(s, starts_on_it, true, false), Verdict::grazing);
+    // Not when the end is farther than the reach.
+    const Ray ends_short = make_ray({0.5f, 0.5f, -2.0f}, {0, 0, 1}, 0.0f, 2.999f);  // 1e-3 short
+    EXPECT_EQ(classify_hit(s, ends_short, Hit{3.0f, 0}, kMiss), Verdict::mismatch);
+    EXPECT_EQ(classify_occlusion(s, ends_short, true, false), Verdict::mismatch);
+    EXPECT_EQ(classify_occlusion(s, ends_short, false, true, 0), Verdict::mismatch);
+    // Not when the segment crosses a triangle away from its ends: the cube's front face (z = -1,
+    // triangle 8 at t = 3) inside a ray that ends on its back face (z = 1, triangle 11 at t = 5).
+    const Scene c = cube();
+    const Ray ends_on_back = make_ray({0.1f, 0.2f, -4.0f}, {0, 0, 1}, 0.0f, 4.99999f);
+    EXPECT_EQ(classify_occlusion(c, ends_on_back, true, false), Verdict::mismatch);
+    EXPECT_EQ(classify_occlusion(c, ends_on_back, false, true, 11), Verdict::mismatch);
+    EXPECT_EQ(classify_hit(c, ends_on_back, Hit{5.0f, 11}, kMiss), Verdict::mismatch);
+    EXPECT_EQ(classify_hit(c, ends_on_back, kMiss, Hit{5.0f, 11}), Verdict::mismatch);
+    // Without the front face's crossing (a ray starting just past it) the back face's end explains it.
+    const Ray past_front = make_ray({0.1f, 0.2f, -4.0f}, {0, 0, 1}, 3.5f, 4.99999f);
+    EXPECT_EQ(classify_occlusion(c, past_front, true, false), Verdict::grazing);
+    EXPECT_EQ(classify_hit(c, past_front, Hit{5.0f, 11}, kMiss), Verdict::grazing);
+    // A hit on a triangle that is not the one at the end: mismatch, whatever lies at the end.
+    EXPECT_EQ(classify_hit(c, past_front, Hit{3.0f, 8}, kMiss), Verdict::mismatch);
+    EXPECT_EQ(classify_occlusion(c, past_front, true, false, 8), Verdict::mismatch);
+    // Both sides hit, at different t: the ends are not asked.
+    EXPECT_EQ(classify_hit(c, past_front, Hit{5.0f, 11}, Hit{4.0f, 11}), Verdict::mismatch);
+}
+
 TEST(Comparison, MismatchEverywhereElse) {
     const Scene s = one_triangle();
     EXPECT_EQ(classify_hit(s, kCentreRay, kMiss, Hit{3.0f, 0, 0.25f, 0.25f}), Verdict::mismatch);

@@ -88,5 +88,50 @@ TEST(RayGeometry, EdgeDistanceAndBruteForceSearch) {
     EXPECT_FALSE(near_edge_of_any(s, RaySegment{}, 1.0));
 }
 
+TEST(RayGeometry, EndDistanceAndBruteForceSearch) {
+    // one_triangle(): corners (0,0,1), (2,0,1), (0,2,1). Rays up the z axis cross it at z = 1.
+    const Scene s = test::one_triangle();
+    const Triangle& tri = s.triangle(0);
+    auto ray = [](Float3 org, Float3 dir, float tnear, float tfar) { return Ray{org, tnear, dir, tfar}; };
+    const Float3 up{0, 0, 1};
+    EXPECT_DOUBLE_EQ(end_distance(tri, ray({0.5f, 0.5f, -2}, up, 0.0f, 3.0f)), 0.0);
+    EXPECT_NEAR(end_distance(tri, ray({0.5f, 0.5f, -2}, up, 0.0f, 2.5f)), 0.5, 1e-12);           // ends before it
+    EXPECT_NEAR(end_distance(tri, ray({0.5f, 0.5f, -2}, up, 0.0f, 3.25f)), 0.25, 1e-12);         // ends beyond it
+    EXPECT_NEAR(end_distance(tri, ray({0.5f, 0.5f, -2}, up, 3.125f, kInfinity)), 0.125, 1e-12);  // starts beyond
+    EXPECT_NEAR(end_distance(tri, ray({0.5f, 0.5f, -2}, up, 0.0f, kInfinity)), 3.0, 1e-12);      // the nearer end
+    // Distances, not parameters: a direction of length 4 crosses at t = 0.75.
+    EXPECT_NEAR(end_distance(tri, ray({0.5f, 0.5f, -2}, {0, 0, 4}, 0.0f, 0.5f)), 1.0, 1e-12);
+    // Behind the origin counts too (the line, not the ray): crossing at t = -1.
+    EXPECT_NEAR(end_distance(tri, ray({0.5f, 0.5f, 2}, up, 0.0f, 1.0f)), 1.0, 1e-12);
+    // The line misses the triangle, runs parallel to it, or the ray holds a NaN: infinitely far.
+    EXPECT_EQ(end_distance(tri, ray({1.5f, 1.5f, -2}, up, 0.0f, 3.0f)), std::numeric_limits<double>::infinity());
+    EXPECT_EQ(end_distance(tri, ray({0.5f, 0.5f, 1}, {1, 0, 0}, 0.0f, 3.0f)), std::numeric_limits<double>::infinity());
+    EXPECT_EQ(end_distance(tri, ray({0.5f, 0.5f, -2}, {0, 0, std::nanf("")}, 0.0f, 3.0f)),
+              std::numeric_limits<double>::infinity());
+    // The brute force over the scene: crossings near an end, and on the segment away from the ends.
+    const Ray ends_short = ray({0.5f, 0.5f, -2}, up, 0.0f, 2.99f);
+    EXPECT_TRUE(end_crossings(s, ends_short, 0.011).near_end);
+    EXPECT_FALSE(end_crossings(s, ends_short, 0.011).inside);
+    EXPECT_FALSE(end_crossings(s, ends_short, 0.009).near_end);
+    EXPECT_FALSE(end_crossings(s, ends_short, 0.009).inside);  // beyond tfar
+    const Ray through = ray({0.5f, 0.5f, -2}, up, 0.0f, kInfinity);
+    EXPECT_FALSE(end_crossings(s, through, 2.9).near_end);
+    EXPECT_FALSE(end_crossings(s, through, 2.9).inside);  // not searched: nothing near an end
+    EXPECT_TRUE(end_crossings(s, through, 3.1).near_end);
+    EXPECT_FALSE(end_crossings(s, through, 3.1).inside);
+    // The cube: the front face (z = -1, t = 3) on a segment that ends on the back face (t = 5).
+    const Scene c = test::cube();
+    const EndCrossings back = end_crossings(c, ray({0.1f, 0.2f, -4}, up, 0.0f, 4.99999f), 1e-4);
+    EXPECT_TRUE(back.near_end);
+    EXPECT_TRUE(back.inside);
+    const EndCrossings past_front = end_crossings(c, ray({0.1f, 0.2f, -4}, up, 3.5f, 4.99999f), 1e-4);
+    EXPECT_TRUE(past_front.near_end);
+    EXPECT_FALSE(past_front.inside);
+    const EndCrossings none = end_crossings(s, ray({1.5f, 1.5f, -2}, up, 0.0f, 3.0f), 1.0);
+    EXPECT_FALSE(none.near_end || none.inside);
+    const EndCrossings reversed = end_crossings(s, ray({0.5f, 0.5f, -2}, up, 4.0f, 2.0f), 10.0);
+    EXPECT_FALSE(reversed.near_end || reversed.inside);
+}
+
 }  // namespace
 }  // namespace beamtrace::oracle

@@ -19,6 +19,15 @@ bool same_t(float a, float b) {
     return std::fabs(ta - tb) <= tolerance;  // false for NaN
 }
 
+// A disagreement the ends of the segment explain: the ray's line crosses some triangle within reach
+// of tnear or tfar, where float t decides whether the crossing is in or out (tracers round it
+// differently: the room's AO rays that end on the floor, docs/oracle.md), and crosses none on the
+// segment farther than that from both ends (there the answer would not be in doubt).
+bool ends_explain(const Scene& scene, const Ray& ray, double reach) {
+    const EndCrossings c = end_crossings(scene, ray, reach);
+    return c.near_end && !c.inside;
+}
+
 }  // namespace
 
 const char* to_string(Verdict verdict) {
@@ -47,6 +56,14 @@ Verdict classify_hit(const Scene& scene, const Ray& ray, const Hit& ours, const 
     for (const Hit* h : {&ours, &oracle}) {
         if (h->hit() && edge_distance(scene.triangle(h->triangle), segment) <= reach) return Verdict::grazing;
     }
+    // One side hit a triangle where the ray's line crosses it within reach of an end of the segment,
+    // the other nothing, and nothing is crossed on the segment away from its ends: the two tracers'
+    // float t fall on the two sides of tnear or tfar.
+    if (ours.hit() != oracle.hit()) {
+        const Hit& only = ours.hit() ? ours : oracle;
+        if (end_distance(scene.triangle(only.triangle), ray) <= reach && ends_explain(scene, ray, reach))
+            return Verdict::grazing;
+    }
     return Verdict::mismatch;
 }
 
@@ -56,12 +73,16 @@ Verdict classify_occlusion(const Scene& scene, const Ray& ray, bool ours, bool o
     const double reach = grazing_distance(scene);
     if (triangle_hint != kNoHit) {
         if (!hittable(scene, triangle_hint)) return Verdict::mismatch;
-        return edge_distance(scene.triangle(triangle_hint), segment) <= reach ? Verdict::grazing : Verdict::mismatch;
+        const Triangle& t = scene.triangle(triangle_hint);
+        if (edge_distance(t, segment) <= reach) return Verdict::grazing;
+        return end_distance(t, ray) <= reach && ends_explain(scene, ray, reach) ? Verdict::grazing : Verdict::mismatch;
     }
     // No hint: the "occluded" side hit some triangle the ray reaches. The triangles that can make
     // this a grazing case are those with an edge within reach of the ray, whether the exact
-    // (double-precision) ray passes just inside them or just outside, so search for exactly those.
-    return near_edge_of_any(scene, segment, reach) ? Verdict::grazing : Verdict::mismatch;
+    // (double-precision) ray passes just inside them or just outside, so search for exactly those;
+    // then the segment's ends (above).
+    if (near_edge_of_any(scene, segment, reach)) return Verdict::grazing;
+    return ends_explain(scene, ray, reach) ? Verdict::grazing : Verdict::mismatch;
 }
 
 void Tally::add(Verdict verdict) {

@@ -6,12 +6,19 @@
 //   agree     both miss, or both hit the same triangle with |dt| <= 1e-4 * max(1, t)
 //   ties      both hit, different triangles, same t within that tolerance (shared edges, vertices)
 //   grazing   any other disagreement where the ray segment [tnear, min(tfar, exit of the scene)]
-//             passes within 1e-5 * (scene box diagonal) of an edge of a triangle either side hit
+//             passes within 1e-5 * (scene box diagonal) of an edge of a triangle either side hit;
+//             or where one side misses and the other hit a triangle that the ray's line crosses
+//             within that distance of an end of the segment (tnear or tfar: float t decides whether
+//             such a crossing is in or out, and tracers round differently), while the line crosses
+//             no triangle on the segment farther than that from both ends (double-precision brute
+//             force over the scene)
 //   mismatch  everything else
 // Occlusion rays: agree if both answers are equal; otherwise grazing if the ray passes within that
 // distance of an edge of the triangle the "occluded" side hit (triangle_hint, from a closest-hit
 // query on the same ray; with kNoHit every non-degenerate triangle of the scene is a candidate, found
-// by a double-precision brute-force search); otherwise mismatch.
+// by a double-precision brute-force search), or if its segment's ends explain the disagreement as
+// above (a crossing within that distance of an end, of the hinted triangle when there is a hint,
+// and none on the segment away from the ends); otherwise mismatch.
 //
 // A reported hit on a degenerate triangle or on an id outside the scene is always a mismatch (no
 // query may ever hit those).
