@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "common/ray_validity.hpp"
 #include "common/watertight_ray.hpp"
@@ -35,7 +36,7 @@ void sort_by_key(std::vector<MovingCandidate>& items) {
 
 // Up to eight candidates from `first`, placed at `time` (read from `placed` when given), against the
 // ray; batch[j] is candidate j as tested.
-int test_at_time(const MovingContext& c, const WatertightRay& w, const std::vector<MovingCandidate>& items,
+int test_at_time(const MovingContext& c, const WatertightRay& w, std::span<const MovingCandidate> items,
                  std::size_t first, float time, const Triangle* placed, Triangle (&tris)[8],
                  const Triangle* (&batch)[8], LaneHits& lanes) {
     const int count = int(std::min<std::size_t>(8, items.size() - first));
@@ -97,6 +98,11 @@ MovingBin::~MovingBin() {
 
 void MovingBin::delete_tree(MovingTree& tree) const {
     for (auto& r : tree.roots) delete_cell(r.exchange(nullptr));
+    for (auto& g : tree.grids)
+        if (MovingGrid* grid = g.exchange(nullptr)) {
+            context_.remove(grid->bytes(), grid->items.size() + grid->wide.size());
+            delete grid;
+        }
 }
 
 void MovingBin::delete_cell(MovingCell* c) const {
@@ -163,6 +169,109 @@ MovingCell* MovingBin::make_child(const MovingTree& tree, const MovingCell& pare
     return c.release();
 }
 
+namespace {
+
+// Where the directions from any point of `apex` to any point of `box` fall on `face`.
+enum class Facing { none, rectangle, straddles };
+
+// The (u, v) rectangle r on `face` of those directions (conservative: padded); none when no such
+// direction points into the face's half space, straddles when some do and some do not (the
+// rectangle is then unbounded: the whole face).
+Facing direction_rectangle(const Box& box, const Box& apex, int face, float r[4]) {
+    const int k = face_axis(face), a = (k + 1) % 3, b = (k + 2) % 3;
+    const float s = float(face_sign(face));
+    const Float3 lo = box.lower - apex.upper, hi = box.upper - apex.lower;  // every difference
+    if (s > 0 ? hi[k] <= 0.0f : lo[k] >= 0.0f) return Facing::none;
+    if (!(s > 0 ? lo[k] > 0.0f : hi[k] < 0.0f)) return Facing::straddles;
+    r[0] = r[2] = kInfinity;
+    r[1] = r[3] = -kInfinity;
+    for (int c = 0; c < 8; ++c) {
+        const Float3 d{(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z};
+        const float m = s * d[k];
+        const float u = d[a] / m, v = d[b] / m;
+        r[0] = std::min(r[0], u);
+        r[1] = std::max(r[1], u);
+        r[2] = std::min(r[2], v);
+        r[3] = std::max(r[3], v);
+    }
+    // A linear-fractional map on a box with a positive denominator: extremes at the corners. Padded
+    // far above the rounding of a ray's (u, v) and of these quotients.
+    for (int i = 0; i < 4; ++i) r[i] += (i % 2 ? 1.0f : -1.0f) * (1e-5f + 1e-5f * std::fabs(r[i]));
+    return Facing::rectangle;
+}
+
+}  // namespace
+
+MovingGrid* MovingBin::make_grid(const MovingTree& tree, int face) const {
+    auto g = std::make_unique<MovingGrid>();
+    // About one cell per candidate, 4..512 a side.
+    int n = 4;
+    while (n < 512 && std::size_t(n) * std::size_t(n) < swept_.size()) n *= 2;
+    g->n = n;
+    const float half = 0.5f * float(n), pad = 1.0f / (64.0f * half);
+    const std::size_t wide_cells = std::size_t(n) * std::size_t(n) / 16;
+    struct Span {
+        int i0, i1, j0, j1;
+    };
+    std::vector<MovingCandidate> sorted;
+    sorted.reserve(swept_.size());
+    for (std::size_t i = 0; i < swept_.size(); ++i)
+        sorted.push_back(MovingCandidate{swept_[i], key_of(swept_[i], face), std::uint32_t(i)});
+    sort_by_key(sorted);
+    std::vector<Span> spans(sorted.size());
+    std::vector<std::uint32_t> count(std::size_t(n) * std::size_t(n) + 1, 0);
+    for (std::size_t m = 0; m < sorted.size(); ++m) {
+        float r[4];
+        Span& sp = spans[m];
+        const Facing facing = direction_rectangle(sorted[m].swept, tree.origins, face, r);
+        if (facing == Facing::none) {
+            sp = {1, 0, 1, 0};
+            continue;
+        }
+        if (facing == Facing::straddles) {
+            sp = {0, n - 1, 0, n - 1};
+        } else {
+            if (r[1] < -1.0f - pad || r[0] > 1.0f + pad || r[3] < -1.0f - pad || r[2] > 1.0f + pad) {
+                sp = {1, 0, 1, 0};  // outside the face: no ray of the face meets it
+                continue;
+            }
+            const auto cell = [&](float x) { return std::clamp(int(std::floor((x + 1.0f) * half)), 0, n - 1); };
+            sp = {cell(r[0] - pad), cell(r[1] + pad), cell(r[2] - pad), cell(r[3] + pad)};
+        }
+        if (std::size_t(sp.i1 - sp.i0 + 1) * std::size_t(sp.j1 - sp.j0 + 1) > wide_cells) {
+            g->wide.push_back(sorted[m]);
+            sp = {1, 0, 1, 0};
+            continue;
+        }
+        for (int j = sp.j0; j <= sp.j1; ++j)
+            for (int i = sp.i0; i <= sp.i1; ++i) ++count[std::size_t(j * n + i) + 1];
+    }
+    for (std::size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
+    g->offsets = count;
+    g->items.resize(count.back());
+    for (std::size_t m = 0; m < sorted.size(); ++m) {  // in key order: each cell's list stays sorted
+        const Span& sp = spans[m];
+        for (int j = sp.j0; j <= sp.j1; ++j)
+            for (int i = sp.i0; i <= sp.i1; ++i) g->items[count[std::size_t(j * n + i)]++] = sorted[m];
+    }
+    g->wide.shrink_to_fit();
+    context_.add(g->bytes(), g->items.size() + g->wide.size());
+    return g.release();
+}
+
+const MovingGrid& MovingBin::grid_of(const MovingTree& tree, int face) const {
+    auto& slot = const_cast<std::atomic<MovingGrid*>&>(tree.grids[face]);
+    MovingGrid* g = slot.load(std::memory_order_acquire);
+    if (g) return *g;
+    MovingGrid* made = make_grid(tree, face);
+    MovingGrid* expected = nullptr;
+    if (slot.compare_exchange_strong(expected, made, std::memory_order_acq_rel, std::memory_order_acquire))
+        return *made;
+    context_.remove(made->bytes(), made->items.size() + made->wide.size());
+    delete made;
+    return *expected;
+}
+
 const MovingTree& MovingBin::light_buffer(const Box& points, float grow) const {
     constexpr std::size_t kMaxBuffers = 16;
     std::lock_guard<std::mutex> lock(buffers_mutex_);
@@ -178,7 +287,6 @@ const MovingTree& MovingBin::light_buffer(const Box& points, float grow) const {
     b->origins.lower = b->origins.lower - Float3{grow, grow, grow};
     b->origins.upper = b->origins.upper + Float3{grow, grow, grow};
     b->split_origins = false;
-    b->max_depth = context_.light_depth;
     buffers_.push_back(std::move(b));
     return *buffers_.back();
 }
@@ -214,33 +322,47 @@ Hit MovingBin::scan(const Ray& ray, float time, const Triangle* placed, Hit best
     } else {
         code = direction_code(Float3{-ray.dir.x, -ray.dir.y, -ray.dir.z});
     }
-    const MovingCell* cell = cell_of(tree, p, code);
     const int k = face_axis(code.face);
     const float key_origin = float(face_sign(code.face)) * ray.org[k];
     const float step = std::fabs(ray.dir[k]);
     WatertightRay w = make_watertight_ray(ray);
     if (best.hit()) w.tfar = best.t;
     // Seen from the light, the segment ends where the ray starts.
-    float stop = frame == Frame::from_end ? key_stop(key_origin, -ray.tnear, step)
-                                          : key_stop(key_origin, best.hit() ? best.t : ray.tfar, step);
-    Triangle tris[8];
-    const Triangle* batch[8];
-    for (std::size_t first = 0; first < cell->items.size(); first += 8) {
-        if (cell->items[first].key > stop) break;
-        LaneHits lanes;
-        const int count = test_at_time(context_, w, cell->items, first, time, placed, tris, batch, lanes);
-        if constexpr (kCount) counters->triangle_tests += std::uint64_t(count);
-        for (std::uint32_t m = lanes.mask; m; m &= m - 1) {
-            const int j = __builtin_ctz(m);
-            const std::uint32_t id = (*context_.moving)[cell->items[first + std::size_t(j)].index];
-            if (!(lanes.t[j] < best.t || (lanes.t[j] == best.t && id < best.triangle))) continue;
-            if (zero_area(*batch[j])) continue;
-            best = Hit{lanes.t[j], id, lanes.u[j], lanes.v[j]};
-            if constexpr (kAny) return best;
-            w.tfar = best.t;
-            if (frame != Frame::from_end) stop = key_stop(key_origin, best.t, step);
+    const auto stop_at = [&](const Hit& h) {
+        return frame == Frame::from_end ? key_stop(key_origin, -ray.tnear, step)
+                                        : key_stop(key_origin, h.hit() ? h.t : ray.tfar, step);
+    };
+    // One key-sorted list; false when an occlusion hit ended the search.
+    const auto scan_list = [&](std::span<const MovingCandidate> items) {
+        float stop = stop_at(best);
+        Triangle tris[8];
+        const Triangle* batch[8];
+        for (std::size_t first = 0; first < items.size(); first += 8) {
+            if (items[first].key > stop) break;
+            LaneHits lanes;
+            const int count = test_at_time(context_, w, items, first, time, placed, tris, batch, lanes);
+            if constexpr (kCount) counters->triangle_tests += std::uint64_t(count);
+            for (std::uint32_t m = lanes.mask; m; m &= m - 1) {
+                const int j = __builtin_ctz(m);
+                const std::uint32_t id = (*context_.moving)[items[first + std::size_t(j)].index];
+                if (!(lanes.t[j] < best.t || (lanes.t[j] == best.t && id < best.triangle))) continue;
+                if (zero_area(*batch[j])) continue;
+                best = Hit{lanes.t[j], id, lanes.u[j], lanes.v[j]};
+                if constexpr (kAny) return false;
+                w.tfar = best.t;
+                stop = stop_at(best);
+            }
         }
+        return true;
+    };
+    if (tree.split_origins) {
+        scan_list(cell_of(tree, p, code)->items);
+        return best;
     }
+    const MovingGrid& grid = grid_of(tree, code.face);
+    const int c = grid.index(code.u, code.v);
+    if (scan_list({grid.items.data() + grid.offsets[std::size_t(c)], grid.items.data() + grid.offsets[std::size_t(c) + 1]}))
+        scan_list(grid.wide);
     return best;
 }
 

@@ -4,6 +4,7 @@
 // lazily where rays arrive; and, for calls whose rays share an end or start point, light buffers
 // around that point (origins not split: 4 children a level, deeper). A ray at time t in the bin
 // tests its cell's candidates placed at t.
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -40,7 +41,6 @@ struct MovingContext {
     const std::vector<std::uint32_t>* moving = nullptr;  // ids of the moving triangles
     Box origins;                                         // every triangle at every time
     int max_depth = 4, min_candidates = 6;
-    int light_depth = 10;  // levels of a light buffer (4 children each)
     double origin_margin = 0.0, direction_margin = 0.0;
     std::atomic<std::size_t> bytes{0}, peak_bytes{0};
     std::atomic<std::uint64_t> cells{0}, entries{0};
@@ -49,12 +49,33 @@ struct MovingContext {
     void remove(std::size_t b, std::size_t n);
 };
 
-// One tree of a bin: the 5D tree over `origins` (split_origins) or a light buffer around a point.
+// A light buffer's face: a uniform n x n grid over the face's (u, v) square, each cell listing the
+// candidates whose direction rectangle seen from the apex box meets it (padded), in key order, side
+// by side (offsets per cell); candidates whose rectangle covers more than a sixteenth of the face go
+// to `wide`, which every ray of the face scans too. Made in one pass over the bin's candidates.
+struct MovingGrid {
+    int n = 1;
+    std::vector<std::uint32_t> offsets;  // n * n + 1
+    std::vector<MovingCandidate> items, wide;
+    int index(float u, float v) const {
+        const float half = 0.5f * float(n);
+        const int i = std::clamp(int((u + 1.0f) * half), 0, n - 1), j = std::clamp(int((v + 1.0f) * half), 0, n - 1);
+        return j * n + i;
+    }
+    std::size_t bytes() const {
+        return sizeof(MovingGrid) + offsets.capacity() * sizeof(std::uint32_t) +
+               (items.capacity() + wide.capacity()) * sizeof(MovingCandidate);
+    }
+};
+
+// One structure of a bin: the 5D tree over `origins` (split_origins) or a light buffer around a
+// point (the apex box `origins`): a direction grid per face.
 struct MovingTree {
     Box origins;
     bool split_origins = true;
     int max_depth = 4;
     std::atomic<MovingCell*> roots[6] = {};  // made when a ray first takes a face
+    std::atomic<MovingGrid*> grids[6] = {};  // light buffers: made when a ray first takes a face
 };
 
 // Every moving triangle of the context at time t (AnimatedScene::triangle_at), by index.
@@ -93,6 +114,8 @@ private:
              const MovingTree& tree, Frame frame) const;
     const MovingCell* cell_of(const MovingTree& tree, const float p[3], const DirectionCode& code) const;
     MovingCell* make_root(const MovingTree& tree, int face) const;
+    MovingGrid* make_grid(const MovingTree& tree, int face) const;
+    const MovingGrid& grid_of(const MovingTree& tree, int face) const;
     MovingCell* make_child(const MovingTree& tree, const MovingCell& parent, int index) const;
     void delete_cell(MovingCell* c) const;
     void delete_tree(MovingTree& tree) const;
