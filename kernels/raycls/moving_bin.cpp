@@ -213,33 +213,34 @@ MovingGrid* MovingBin::make_grid(const MovingTree& tree, int face) const {
     struct Span {
         int i0, i1, j0, j1;
     };
-    std::vector<MovingCandidate> sorted;
+    // The candidates some direction of the face reaches, each with its cells, sorted by key.
+    struct Placed {
+        MovingCandidate candidate;
+        Span span;
+    };
+    std::vector<Placed> sorted;
     sorted.reserve(swept_.size());
-    for (std::size_t i = 0; i < swept_.size(); ++i)
-        sorted.push_back(MovingCandidate{swept_[i], key_of(swept_[i], face), std::uint32_t(i)});
-    sort_by_key(sorted);
-    std::vector<Span> spans(sorted.size());
-    std::vector<std::uint32_t> count(std::size_t(n) * std::size_t(n) + 1, 0);
-    for (std::size_t m = 0; m < sorted.size(); ++m) {
+    for (std::size_t i = 0; i < swept_.size(); ++i) {
         float r[4];
-        Span& sp = spans[m];
-        const Facing facing = direction_rectangle(sorted[m].swept, tree.origins, face, r);
-        if (facing == Facing::none) {
-            sp = {1, 0, 1, 0};
-            continue;
-        }
-        if (facing == Facing::straddles) {
-            sp = {0, n - 1, 0, n - 1};
-        } else {
-            if (r[1] < -1.0f - pad || r[0] > 1.0f + pad || r[3] < -1.0f - pad || r[2] > 1.0f + pad) {
-                sp = {1, 0, 1, 0};  // outside the face: no ray of the face meets it
-                continue;
-            }
+        const Facing facing = direction_rectangle(swept_[i], tree.origins, face, r);
+        if (facing == Facing::none) continue;
+        Span sp{0, n - 1, 0, n - 1};
+        if (facing == Facing::rectangle) {
+            if (r[1] < -1.0f - pad || r[0] > 1.0f + pad || r[3] < -1.0f - pad || r[2] > 1.0f + pad) continue;
             const auto cell = [&](float x) { return std::clamp(int(std::floor((x + 1.0f) * half)), 0, n - 1); };
             sp = {cell(r[0] - pad), cell(r[1] + pad), cell(r[2] - pad), cell(r[3] + pad)};
         }
+        sorted.push_back(Placed{MovingCandidate{swept_[i], key_of(swept_[i], face), std::uint32_t(i)}, sp});
+    }
+    std::sort(sorted.begin(), sorted.end(), [](const Placed& a, const Placed& b) {
+        return a.candidate.key < b.candidate.key ||
+               (a.candidate.key == b.candidate.key && a.candidate.index < b.candidate.index);
+    });
+    std::vector<std::uint32_t> count(std::size_t(n) * std::size_t(n) + 1, 0);
+    for (Placed& p : sorted) {
+        Span& sp = p.span;
         if (std::size_t(sp.i1 - sp.i0 + 1) * std::size_t(sp.j1 - sp.j0 + 1) > wide_cells) {
-            g->wide.push_back(sorted[m]);
+            g->wide.push_back(p.candidate);
             sp = {1, 0, 1, 0};
             continue;
         }
@@ -249,10 +250,10 @@ MovingGrid* MovingBin::make_grid(const MovingTree& tree, int face) const {
     for (std::size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
     g->offsets = count;
     g->items.resize(count.back());
-    for (std::size_t m = 0; m < sorted.size(); ++m) {  // in key order: each cell's list stays sorted
-        const Span& sp = spans[m];
+    for (const Placed& p : sorted) {  // in key order: each cell's list stays sorted
+        const Span& sp = p.span;
         for (int j = sp.j0; j <= sp.j1; ++j)
-            for (int i = sp.i0; i <= sp.i1; ++i) g->items[count[std::size_t(j * n + i)]++] = sorted[m];
+            for (int i = sp.i0; i <= sp.i1; ++i) g->items[count[std::size_t(j * n + i)]++] = p.candidate;
     }
     g->wide.shrink_to_fit();
     context_.add(g->bytes(), g->items.size() + g->wide.size());

@@ -48,7 +48,7 @@ public:
     void build(const Scene& scene, const EngineOptions& options) override {
         native_.reset();  // its rays point into the old Embree scene
         prepared_for_ = nullptr;
-        oracle_ = std::make_unique<oracle::EmbreeOracle>(scene, oracle::EmbreeSceneOptions{options.embree_robust});
+        oracle_ = std::make_unique<oracle::EmbreeOracle>(scene, oracle::EmbreeSceneOptions{options.embree_robust, options.embree_build_threads});
     }
     double build_seconds() const override { return oracle_->build_seconds(); }
     std::size_t memory_bytes() const override { return oracle_->memory_bytes(); }

@@ -35,8 +35,8 @@ public:
     // Even the dynamic kinds keep the static triangles' structure across frames.
     bool rebuilds_per_frame() const override { return false; }
 
-    double start(const AnimatedScene& scene, const EngineOptions&) override {
-        embree_ = std::make_unique<oracle::EmbreeAnimation>(scene, motion_);
+    double start(const AnimatedScene& scene, const EngineOptions& options) override {
+        embree_ = std::make_unique<oracle::EmbreeAnimation>(scene, motion_, options.embree_build_threads);
         memory_peak_ = embree_->memory_bytes();
         return embree_->build_seconds();
     }

@@ -34,6 +34,9 @@ struct EngineOptions {
     // embree1, embree16, embree-stream: build Embree's scene with RTC_SCENE_FLAG_ROBUST (the
     // watertight guarantee our engines give); off only to measure what Embree's fast mode gains.
     bool embree_robust = true;
+    // Embree engines: threads of Embree's builder (0: Embree's default, every hardware thread).
+    // `bench --animation`, which counts build time, sets it to --threads.
+    int embree_build_threads = 0;
     // Progress of long builds in [0, 1]; may be empty.
     std::function<void(double)> build_progress;
     // crsh: the scene's objects (SceneSource::object_of_triangle; must outlive build()); empty: the

@@ -86,7 +86,7 @@ public:
     void build(const Scene& scene, const EngineOptions& options) override {
         native_.reset();  // its rays point into the old Embree scene
         prepared_.forget();
-        oracle_ = std::make_unique<oracle::EmbreeOracle>(scene, oracle::EmbreeSceneOptions{options.embree_robust});
+        oracle_ = std::make_unique<oracle::EmbreeOracle>(scene, oracle::EmbreeSceneOptions{options.embree_robust, options.embree_build_threads});
         bounds_ = scene.bounds();
         settings_ = options.stream;
     }

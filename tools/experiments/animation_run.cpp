@@ -153,7 +153,9 @@ AnimationResult run_animation(const AnimationConfig& config, const AnimationBenc
         res.name = engines[e]->name();
         res.rebuilds_per_frame = engines[e]->rebuilds_per_frame();
         if (options.progress) std::fprintf(stderr, "build %s\n", res.name.c_str());
-        res.start_seconds = engines[e]->start(anim.scene, options.engine_options);
+        EngineOptions engine_options = options.engine_options;
+        engine_options.embree_build_threads = options.threads;  // builds count: Embree's on as many threads
+        res.start_seconds = engines[e]->start(anim.scene, engine_options);
         res.build_seconds = res.start_seconds;
     }
 

@@ -80,7 +80,7 @@ struct EmbreeAnimation::Impl {
     }
 };
 
-EmbreeAnimation::EmbreeAnimation(const AnimatedScene& scene, EmbreeMotion motion)
+EmbreeAnimation::EmbreeAnimation(const AnimatedScene& scene, EmbreeMotion motion, int build_threads)
     : impl_(std::make_unique<Impl>(scene, motion)) {
     Impl& m = *impl_;
     const auto start = std::chrono::steady_clock::now();
@@ -92,7 +92,7 @@ EmbreeAnimation::EmbreeAnimation(const AnimatedScene& scene, EmbreeMotion motion
                 throw Error("embree animation: motion blur needs keyframes at uniform times over [0, 1]; keyframe " +
                             std::to_string(k) + " is at " + std::to_string(times[k]));
     }
-    m.device = std::make_unique<EmbreeDevice>("embree animation");
+    m.device = std::make_unique<EmbreeDevice>("embree animation", build_threads);
     m.scene = rtcNewScene(m.device->get());
     m.device->check("rtcNewScene");
     const bool dynamic = motion != EmbreeMotion::motion_blur;

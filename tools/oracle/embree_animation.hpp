@@ -28,7 +28,8 @@ public:
     // Builds (and, for the dynamic kinds, places the moving triangles at the scene's start time).
     // Throws beamtrace::Error with Embree's error, or for motion blur on keyframes that are not at
     // uniform times over [0, 1].
-    EmbreeAnimation(const AnimatedScene& scene, EmbreeMotion motion);
+    // build_threads: Embree's builder threads (0: Embree's default, every hardware thread).
+    EmbreeAnimation(const AnimatedScene& scene, EmbreeMotion motion, int build_threads = 0);
     ~EmbreeAnimation() override;
     EmbreeAnimation(const EmbreeAnimation&) = delete;
     EmbreeAnimation& operator=(const EmbreeAnimation&) = delete;

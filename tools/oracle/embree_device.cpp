@@ -24,8 +24,9 @@ const char* error_name(RTCError code) {
     return "unrecognised error code";
 }
 
-EmbreeDevice::EmbreeDevice(std::string who) : who_(std::move(who)) {
-    device_ = rtcNewDevice("verbose=0");
+EmbreeDevice::EmbreeDevice(std::string who, int threads) : who_(std::move(who)) {
+    const std::string config = threads > 0 ? "verbose=0,threads=" + std::to_string(threads) : "verbose=0";
+    device_ = rtcNewDevice(config.c_str());
     if (device_ == nullptr)
         throw Error(who_ + ": cannot create an Embree device: " + error_name(rtcGetDeviceError(nullptr)));
     rtcSetDeviceErrorFunction(device_, &EmbreeDevice::on_error, this);

@@ -14,9 +14,9 @@ namespace beamtrace::oracle {
 
 class EmbreeDevice {
 public:
-    // `who` starts every error message ("embree oracle", "embree animation"). Throws when Embree
-    // cannot make a device.
-    explicit EmbreeDevice(std::string who);
+    // `who` starts every error message ("embree oracle", "embree animation"). threads: the device's
+    // worker threads (builds), 0 for Embree's default. Throws when Embree cannot make a device.
+    explicit EmbreeDevice(std::string who, int threads = 0);
     ~EmbreeDevice();
     EmbreeDevice(const EmbreeDevice&) = delete;
     EmbreeDevice& operator=(const EmbreeDevice&) = delete;

@@ -47,7 +47,7 @@ EmbreeOracle::EmbreeOracle(const Scene& scene, const EmbreeSceneOptions& options
     Impl& m = *impl_;
     const auto start = std::chrono::steady_clock::now();
 
-    m.device = std::make_unique<EmbreeDevice>("embree oracle");
+    m.device = std::make_unique<EmbreeDevice>("embree oracle", options.build_threads);
     m.scene = rtcNewScene(m.device->get());
     m.check("rtcNewScene");
     m.robust = options.robust;

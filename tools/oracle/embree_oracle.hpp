@@ -41,6 +41,9 @@ struct EmbreeSceneOptions {
     // to measure what Embree's faster, non-robust mode gains (docs/oracle.md); the oracle of the
     // tests and of every comparison is always robust.
     bool robust = true;
+    // Threads Embree's builder may use (its device's "threads" setting); 0: Embree's default, every
+    // hardware thread. Benchmarks that count build time set it to the run's --threads.
+    int build_threads = 0;
 };
 
 class EmbreeOracle : public EmbreeTarget {
