@@ -286,4 +286,7 @@ TEST(Cli, BenchAnimationOptionsAreChecked) {
     EXPECT_EQ(no_scene.exit_code, 2);
     EXPECT_NE(no_scene.output.find("--scene"), std::string::npos) << no_scene.output;
     EXPECT_EQ(run("bench --animation spin --scene room-lite --engines nosuch").exit_code, 2);
+    const CommandResult stray = run("bench --scene tetra:1 --engines kd1 --frames 3");
+    EXPECT_EQ(stray.exit_code, 2);
+    EXPECT_NE(stray.output.find("--frames applies to --animation only"), std::string::npos) << stray.output;
 }

@@ -250,7 +250,7 @@ std::function<void()> add_bench_command(CLI::App& app) {
                   "(default on; --embree-non-robust measures Embree's faster mode)");
     cmd->add_option("--json", args->json, "write the results as JSON to this file");
     cmd->add_option("--markdown", args->markdown, "write the table as Markdown to this file");
-    return [args] {
+    return [args, cmd] {
         workload::WorkloadConfig wc = workload_config(args->scene, args->rays);
         wc.ao_directions = workload::AoDirections{workload::parse_ao_directions(args->ao_dirs), args->vlf.directions};
         workload::BenchOptions bo;
@@ -302,6 +302,9 @@ std::function<void()> add_bench_command(CLI::App& app) {
             run_animation_bench(*args, bo.engine_options);
             return;
         }
+        for (const char* only : {"--frames", "--samples-per-frame", "--raycls-st-bins", "--raycls-st-depth",
+                                 "--raycls-st-min-candidates", "--raycls-st-keep-calls"})
+            if (cmd->count(only) > 0) throw Error(std::string(only) + " applies to --animation only");
         if (args->scene.scene.empty()) throw Error("--scene is required (or --animation)");
         for (const std::string& e : bo.engines) workload::make_engine(e);  // reject unknown names before loading
         const workload::Workload w = workload::make_workload(wc);
