@@ -5,13 +5,12 @@
 #include "beamtrace/error.hpp"
 #include "engines/animated_engine.hpp"
 
+#include "report/wall_clock.hpp"
 namespace beamtrace::workload {
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
+using report::seconds_since;
 
 // Copies the slots of `from` whose time is t into `into` (per slot, same size).
 template <class T>

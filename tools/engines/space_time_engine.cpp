@@ -9,13 +9,12 @@
 #include "engines/active_rays.hpp"
 #include "engines/animated_engine.hpp"
 
+#include "report/wall_clock.hpp"
 namespace beamtrace::workload {
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
+using report::seconds_since;
 
 // The active rays of a set side by side with their times.
 struct TimedRays {

@@ -12,15 +12,14 @@
 #include "rays/workload.hpp"
 #include "scenes/animations.hpp"
 
+#include "report/wall_clock.hpp"
 namespace beamtrace::workload {
 
 namespace {
 
 using report::fixed;
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
+using report::seconds_since;
 
 bool is_embree(const std::string& name) { return name.rfind("embree", 0) == 0; }
 

@@ -12,13 +12,12 @@
 #include "beamtrace/error.hpp"
 #include "oracle/embree_device.hpp"
 
+#include "report/wall_clock.hpp"
 namespace beamtrace::oracle {
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
+using report::seconds_since;
 
 }  // namespace
 
