@@ -4,8 +4,8 @@
 
 #include "beamtrace/error.hpp"
 #include "engines/animated_engine.hpp"
-
 #include "report/wall_clock.hpp"
+
 namespace beamtrace::workload {
 
 namespace {

@@ -8,8 +8,8 @@
 #include "beamtrace/space_time_classification.hpp"
 #include "engines/active_rays.hpp"
 #include "engines/animated_engine.hpp"
-
 #include "report/wall_clock.hpp"
+
 namespace beamtrace::workload {
 
 namespace {

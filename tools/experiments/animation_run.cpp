@@ -11,8 +11,8 @@
 #include "report/progress_bar.hpp"
 #include "rays/workload.hpp"
 #include "scenes/animations.hpp"
-
 #include "report/wall_clock.hpp"
+
 namespace beamtrace::workload {
 
 namespace {

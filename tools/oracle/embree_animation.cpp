@@ -11,8 +11,8 @@
 
 #include "beamtrace/error.hpp"
 #include "oracle/embree_device.hpp"
-
 #include "report/wall_clock.hpp"
+
 namespace beamtrace::oracle {
 
 namespace {
