@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <shared_mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "beamtrace/error.hpp"
@@ -63,6 +65,10 @@ struct SpaceTimeClassification::Impl {
     int bins = 1;
     float start = 0.0f, span = 1.0f;
     float shared_point_size = 0.0f;  // largest box of shared points (light buffers' apex), as the static part's
+    // The moving triangles placed at the last call's times (PlacedTimes), and their bytes.
+    mutable std::mutex placed_mutex;
+    mutable std::vector<std::pair<float, std::shared_ptr<const std::vector<Triangle>>>> placed_last;
+    mutable std::size_t placed_bytes = 0;
     mutable raycls::MovingContext context;
     mutable std::vector<std::atomic<raycls::MovingBin*>> slots;
     mutable std::mutex make_mutex;
@@ -155,7 +161,7 @@ void check_times(const char* what, std::size_t rays, std::span<const float> time
 // per triangle and time instead of one per candidate test. Otherwise each test places its triangle.
 class PlacedTimes {
 public:
-    PlacedTimes(const raycls::MovingContext& context, std::span<const float> times) {
+    PlacedTimes(const SpaceTimeClassification::Impl& impl, std::span<const float> times) {
         constexpr std::size_t kMaxTimes = 16;
         for (const float t : times) {
             if (std::find(times_.begin(), times_.end(), t) != times_.end()) continue;
@@ -165,23 +171,44 @@ public:
             }
             times_.push_back(t);
         }
+        // The last call's placements are kept: a frame's calls (primary, then shadow rays) share
+        // their times, so the second places nothing.
+        std::lock_guard<std::mutex> lock(impl.placed_mutex);
+        bool all_kept = true;
+        placed_.resize(times_.size());
+        for (std::size_t i = 0; i < times_.size(); ++i) {
+            for (const auto& [t, triangles] : impl.placed_last)
+                if (t == times_[i]) placed_[i] = triangles;
+            all_kept = all_kept && placed_[i];
+        }
         // Placing costs a triangle per moving triangle and time; a test without it costs one per candidate.
-        if (times.size() * 4 < context.moving->size() * times_.size()) {
+        if (!all_kept && times.size() * 4 < impl.moving.size() * times_.size()) {
             times_.clear();
+            placed_.clear();
             return;
         }
-        placed_.resize(times_.size());
-        for (std::size_t i = 0; i < times_.size(); ++i) raycls::place_moving(context, times_[i], placed_[i]);
+        for (std::size_t i = 0; i < times_.size(); ++i)
+            if (!placed_[i]) {
+                auto triangles = std::make_shared<std::vector<Triangle>>();
+                raycls::place_moving(impl.context, times_[i], *triangles);
+                placed_[i] = std::move(triangles);
+            }
+        impl.placed_last.clear();
+        impl.placed_bytes = 0;
+        for (std::size_t i = 0; i < times_.size(); ++i) {
+            impl.placed_last.emplace_back(times_[i], placed_[i]);
+            impl.placed_bytes += placed_[i]->capacity() * sizeof(Triangle);
+        }
     }
     const Triangle* at(float t) const {
         for (std::size_t i = 0; i < times_.size(); ++i)
-            if (times_[i] == t) return placed_[i].data();
+            if (times_[i] == t) return placed_[i]->data();
         return nullptr;
     }
 
 private:
     std::vector<float> times_;
-    std::vector<std::vector<Triangle>> placed_;
+    std::vector<std::shared_ptr<const std::vector<Triangle>>> placed_;
 };
 
 // Where one call's rays go in the moving part: the 5D tree of the ray's bin, or, when the call's rays
@@ -228,7 +255,7 @@ void moving_intersect(const SpaceTimeClassification::Impl& impl, std::span<const
     if (impl.moving.empty()) return;
     impl.start_call();
     std::shared_lock<std::shared_mutex> use(impl.use_mutex);
-    const PlacedTimes placed(impl.context, times);
+    const PlacedTimes placed(impl, times);
     const MovingPlan plan(impl, rays, false);
     run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
         MovingPlan::Place place;
@@ -247,7 +274,7 @@ void moving_occluded(const SpaceTimeClassification::Impl& impl, std::span<const 
     if (impl.moving.empty()) return;
     impl.start_call();
     std::shared_lock<std::shared_mutex> use(impl.use_mutex);
-    const PlacedTimes placed(impl.context, times);
+    const PlacedTimes placed(impl, times);
     const MovingPlan plan(impl, rays, true);
     run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
         MovingPlan::Place place;
@@ -360,6 +387,9 @@ void SpaceTimeClassification::clear() const {
     std::unique_lock<std::shared_mutex> alone(impl_->use_mutex);
     impl_->free_bins(~std::uint64_t(0));
     impl_->context.peak_bytes = impl_->context.bytes.load();
+    std::lock_guard<std::mutex> lock(impl_->placed_mutex);
+    impl_->placed_last.clear();
+    impl_->placed_bytes = 0;
 }
 
 const AnimatedScene& SpaceTimeClassification::scene() const { return impl_->scene; }
@@ -376,7 +406,10 @@ SpaceTimeStats SpaceTimeClassification::stats() const {
     s.bins_resident = s.bins_made - s.bins_freed;
     s.moving_cells = impl_->context.cells.load();
     s.moving_entries = impl_->context.entries.load();
-    s.moving_memory_bytes = impl_->context.bytes.load();
+    {
+        std::lock_guard<std::mutex> lock(impl_->placed_mutex);
+        s.moving_memory_bytes = impl_->context.bytes.load() + impl_->placed_bytes;
+    }
     s.moving_memory_peak_bytes = impl_->context.peak_bytes.load();
     return s;
 }
