@@ -9,13 +9,16 @@
 //   <scene>/mlrta_4x4_packet   the same with 4x4 packets traced together (xp_packets 4, MTS 16: the
 //                              defaults)
 //   <scene>/mlrta_4x4_mts32_packet  the same with MTS 32 (tiles of at least 8x8 packets)
-//   <scene>/packet_setup       a packet's set-up for interval traversal: lanes (direction lengths,
-//                              octants), the per-lane box rays, the one-origin frustum, the
-//                              watertight packet
+//   <scene>/packet_setup       a packet's set-up for interval traversal from the root: lanes
+//                              (direction lengths, octants, validity), group ranges, the cut to the
+//                              cell, the per-lane box rays, the one-origin frustum, the watertight
+//                              packet
 //   <scene>/beam_of_packet     Beam::add of a packet (what MLRTA does for every packet of a tile)
 //   <scene>/ep_search          an entry-point search of an initial tile's beam from the root
 //   <scene>/triangle_test      one 16-ray watertight test (packet_x1), on the triangles the packet's
 //                              rays hit (their copies in the leaf holding the hit, as traversal reads them)
+//   <scene>/leaf_tests         the same test on every triangle of the leaf holding a lane's hit: the
+//                              mix traversal meets (most of them miss every ray)
 //   <scene>/lane_box           the per-lane box test of a leaf (the leaf holding a lane's hit)
 //   <scene>/frustum_cull       the frustum culling of up to 16 triangles of that leaf (from the corner rows)
 //
@@ -207,19 +210,33 @@ void bm_mlrta_4x4_mts32_packet(benchmark::State& state, const std::string& name)
     bm_mlrta_packet_side(state, name, 4, 32);
 }
 
+// A packet's set-up as traversal does it from the root (lanes, group ranges, then the cut to the
+// cell, the farthest distance, the frustum, the watertight packet and the box rays), with the
+// functions traversal calls.
 void bm_packet_setup(benchmark::State& state, const std::string& name) {
     Case& c = scene_case(name);
     if (!usable(state, c)) return;
+    const KdTree::Impl& kd = detail::Access::impl(*c.tree);
+    const float pad = kd.packet_tables().pad;
+    WatertightPacket16 wp;
+    kdtree::LaneBoxRays box_rays;
+    kdtree::OneOriginFrustum f;
     for (auto _ : state)
         for (const Packet16& p : c.packets) {
             const kdtree::PacketLanes lanes = kdtree::packet_lanes(p);
-            const kdtree::LaneBoxRays box_rays = kdtree::make_lane_box_rays(p, 1e-6f);
-            const kdtree::OneOriginFrustum f = kdtree::make_one_origin_frustum(p, first_octant(lanes));
-            const WatertightPacket16 wp = make_watertight_packet(p);
-            benchmark::DoNotOptimize(lanes);
-            benchmark::DoNotOptimize(box_rays);
+            const std::uint32_t mask = first_octant(lanes);
+            if (mask == 0) continue;
+            benchmark::DoNotOptimize(kdtree::group_ranges(p, lanes, mask));
+            const kdtree::CellEntry e = kdtree::enter_cell(p, mask, lanes.speed, kd.bounds, pad);
+            const float far = kdtree::farthest_distance(p.tfar, lanes.speed, e.lanes);
+            f = kdtree::make_one_origin_frustum(p, e.lanes);
+            make_watertight_packet(p, wp);
+            kdtree::make_lane_box_rays(p, pad, box_rays);
+            benchmark::DoNotOptimize(e);
+            benchmark::DoNotOptimize(far);
             benchmark::DoNotOptimize(f);
             benchmark::DoNotOptimize(wp);
+            benchmark::DoNotOptimize(box_rays);
         }
     per(state, c.packets.size(), "packets");
 }
@@ -300,6 +317,40 @@ void bm_triangle_test(benchmark::State& state, const std::string& name) {
     state.SetLabel("items: 16-ray triangle tests (inputs in cache)");
 }
 
+// Every triangle of the leaf holding a lane's hit against the packet: the mix traversal meets
+// (hits, triangles between the packet's rays, triangles behind its hits), inputs in cache.
+void bm_leaf_tests(benchmark::State& state, const std::string& name) {
+    Case& c = scene_case(name);
+    if (!usable(state, c)) return;
+    const KdTree::Impl& kd = detail::Access::impl(*c.tree);
+    const TriangleKernels& kernels = *kd.kernels;
+    constexpr std::size_t kBlock = 256;
+    constexpr int kRounds = 4;
+    std::vector<WatertightPacket16> set_up(kBlock);
+    LaneHits lanes;
+    std::size_t tests = 0, hitting = 0;
+    for (auto _ : state) {
+        for (std::size_t b = 0; b < c.leaves.size(); b += kBlock) {
+            const std::size_t n = std::min(kBlock, c.leaves.size() - b);
+            state.PauseTiming();
+            for (std::size_t i = 0; i < n; ++i) set_up[i] = make_watertight_packet(c.packets[c.leaves[b + i].packet]);
+            state.ResumeTiming();
+            for (int round = 0; round < kRounds; ++round)
+                for (std::size_t i = 0; i < n; ++i) {
+                    const KdNode& leaf = kd.nodes[c.leaves[b + i].node];
+                    for (std::uint32_t j = 0; j < leaf.triangle_count(); ++j) {
+                        kernels.packet_x1(set_up[i], kd.leaf_triangles[leaf.offset() + j], lanes);
+                        hitting += lanes.mask != 0;
+                        ++tests;
+                    }
+                }
+        }
+    }
+    state.SetItemsProcessed(std::int64_t(tests));
+    state.counters["hit_rate"] = tests ? double(hitting) / double(tests) : 0.0;
+    state.SetLabel("items: 16-ray triangle tests of whole leaves (inputs in cache)");
+}
+
 void bm_lane_box(benchmark::State& state, const std::string& name) {
     Case& c = scene_case(name);
     if (!usable(state, c)) return;
@@ -359,6 +410,7 @@ void register_all() {
         add("beam_of_packet", bm_beam_of_packet);
         add("ep_search", bm_ep_search);
         add("triangle_test", bm_triangle_test);
+        add("leaf_tests", bm_leaf_tests);
         add("lane_box", bm_lane_box);
         add("frustum_cull", bm_frustum_cull);
     }

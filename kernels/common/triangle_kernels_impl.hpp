@@ -66,11 +66,16 @@ template <class Arch>
     }
     const auto negative = (u < zero) | (v < zero) | (w < zero);
     const auto positive = (u > zero) | (v > zero) | (w > zero);
+    // Most tests in traversal miss every ray on the edge signs alone (triangles of a leaf that fall
+    // between a packet's rays): those lanes can never be inside, so stop before the determinant and
+    // the division. Same bits as going on.
+    const auto crossing = ~(negative & positive);
+    if ((lane_bits<Arch>(crossing) & valid_bits) == 0) return 0;
     const B det = (u + v) + w;
     const B t_scaled = (u * (sz * k.az) + v * (sz * k.bz)) + w * (sz * k.cz);
     const B rcp = B(1.0f) / det;
     const B t = t_scaled * rcp;
-    const auto inside = ~(negative & positive) & (det != zero) & (t >= tnear) & (t <= tfar) & (t < B(kInfinity));
+    const auto inside = crossing & (det != zero) & (t >= tnear) & (t <= tfar) & (t < B(kInfinity));
     const std::uint32_t bits = lane_bits<Arch>(inside) & valid_bits;
     if (bits != 0) {
         t.store_aligned(out.t + base);
