@@ -70,7 +70,7 @@ public:
             append_events(t, tb, events);
             ++n;
         }
-        for (auto& e : events) std::sort(e.begin(), e.end());
+        for (auto& e : events) sort_events(e, scratch_);
 
         max_depth_ = rules_.max_depth > 0 ? rules_.max_depth
                                           : std::min(60, int(8 + 1.3 * std::log2(double(std::max<std::size_t>(n, 1)))));
@@ -263,9 +263,9 @@ private:
         }
     }
 
-    static void merge_into(AxisEvents& kept, AxisEvents& added) {
+    void merge_into(AxisEvents& kept, AxisEvents& added) {
         if (added.empty()) return;
-        std::sort(added.begin(), added.end());
+        sort_events(added, scratch_);
         const std::size_t mid = kept.size();
         kept.insert(kept.end(), added.begin(), added.end());
         std::inplace_merge(kept.begin(), kept.begin() + std::ptrdiff_t(mid), kept.end());
@@ -301,6 +301,7 @@ private:
     std::vector<std::uint8_t> side_;
     std::vector<double> area_;
     std::vector<std::uint32_t> both_;
+    AxisEvents scratch_;  // of sort_events
     double slack_ = 0.0;
     float scene_area_ = 0.0f;
     int max_depth_ = 0;

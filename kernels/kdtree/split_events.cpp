@@ -1,8 +1,31 @@
 #include "kdtree/split_events.hpp"
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 
+#include "common/radix_sort.hpp"
+
 namespace beamtrace::kd {
+
+void sort_events(AxisEvents& events, AxisEvents& scratch) {
+    // Below this many events std::sort is faster than six radix passes.
+    constexpr std::size_t kRadixMin = 4096;
+    if (events.size() < kRadixMin) {
+        std::sort(events.begin(), events.end());
+        return;
+    }
+    radix_sort(
+        events, scratch, 64,
+        [](const SplitEvent& e) {
+            // Floats in the order of their values: positive ones above negative ones, negative ones
+            // reversed; + 0.0f turns -0 into +0 (they compare equal).
+            const std::uint32_t b = std::bit_cast<std::uint32_t>(e.pos + 0.0f);
+            const std::uint32_t ordered = (b & 0x80000000u) ? ~b : (b | 0x80000000u);
+            return (std::uint64_t(ordered) << 32) | e.key;
+        },
+        1);
+}
 
 namespace {
 

@@ -31,6 +31,11 @@ static_assert(sizeof(SplitEvent) == 8);
 
 using AxisEvents = std::vector<SplitEvent>;
 
+// Sorts events by operator< (position, then type, then triangle). Long lists by a radix sort of an
+// order-preserving 64-bit key (-0 taken as +0, as operator< does), short ones by std::sort: the
+// keys are unique, so both give the one order std::sort gives. `scratch` is reused across calls.
+void sort_events(AxisEvents& events, AxisEvents& scratch);
+
 // Box of the part of `tri` inside `cell`, computed in double precision against the cell grown by
 // `slack` and rounded outwards, then limited to `cell`: never smaller than the exact part, so no
 // ray can miss the triangle because of clipping. Empty if the triangle stays out of the grown cell.
