@@ -4,6 +4,7 @@
 // caller's TBB arena. The stream tracer sorts (key, index) words with it, CRSH (key, ray) pairs.
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -11,6 +12,13 @@
 #include <tbb/parallel_for.h>
 
 namespace beamtrace {
+
+// The bits of a float as an unsigned key in the order of the values (positive ones above negative
+// ones, negative ones reversed); -0 is taken as +0, as the float compares do. Not for NaN.
+inline std::uint32_t sortable_bits(float x) {
+    const std::uint32_t b = std::bit_cast<std::uint32_t>(x + 0.0f);
+    return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
+}
 
 // Sorts `records` by the low `key_bits` bits of key(record) (a std::uint64_t); equal keys keep their
 // order. `scratch` is resized to the records' size (reused across calls).

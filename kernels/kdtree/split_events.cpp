@@ -1,7 +1,6 @@
 #include "kdtree/split_events.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 
 #include "common/radix_sort.hpp"
@@ -17,13 +16,7 @@ void sort_events(AxisEvents& events, AxisEvents& scratch) {
     }
     radix_sort(
         events, scratch, 64,
-        [](const SplitEvent& e) {
-            // Floats in the order of their values: positive ones above negative ones, negative ones
-            // reversed; + 0.0f turns -0 into +0 (they compare equal).
-            const std::uint32_t b = std::bit_cast<std::uint32_t>(e.pos + 0.0f);
-            const std::uint32_t ordered = (b & 0x80000000u) ? ~b : (b | 0x80000000u);
-            return (std::uint64_t(ordered) << 32) | e.key;
-        },
+        [](const SplitEvent& e) { return (std::uint64_t(sortable_bits(e.pos)) << 32) | e.key; },
         1);
 }
 

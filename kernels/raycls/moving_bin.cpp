@@ -5,6 +5,7 @@
 #include <cmath>
 #include <span>
 
+#include "common/radix_sort.hpp"
 #include "common/ray_validity.hpp"
 #include "common/watertight_ray.hpp"
 #include "kdtree/ray_traversal.hpp"
@@ -183,17 +184,18 @@ Facing direction_rectangle(const Box& box, const Box& apex, int face, float r[4]
     const Float3 lo = box.lower - apex.upper, hi = box.upper - apex.lower;  // every difference
     if (s > 0 ? hi[k] <= 0.0f : lo[k] >= 0.0f) return Facing::none;
     if (!(s > 0 ? lo[k] > 0.0f : hi[k] < 0.0f)) return Facing::straddles;
-    r[0] = r[2] = kInfinity;
-    r[1] = r[3] = -kInfinity;
-    for (int c = 0; c < 8; ++c) {
-        const Float3 d{(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z};
-        const float m = s * d[k];
-        const float u = d[a] / m, v = d[b] / m;
-        r[0] = std::min(r[0], u);
-        r[1] = std::max(r[1], u);
-        r[2] = std::min(r[2], v);
-        r[3] = std::max(r[3], v);
-    }
+    // u = d[a] / m over the box: m takes its two extremes, d[a] its two; the quotients' extremes are
+    // among the four products with the two reciprocals (one more rounding each than a division,
+    // far below the padding).
+    const float m0 = s * (s > 0 ? lo[k] : hi[k]), m1 = s * (s > 0 ? hi[k] : lo[k]);  // 0 < m0 <= m1
+    const float w0 = 1.0f / m0, w1 = 1.0f / m1;
+    const auto range = [&](float x0, float x1, float& out_lo, float& out_hi) {
+        const float p[4] = {x0 * w0, x0 * w1, x1 * w0, x1 * w1};
+        out_lo = std::min(std::min(p[0], p[1]), std::min(p[2], p[3]));
+        out_hi = std::max(std::max(p[0], p[1]), std::max(p[2], p[3]));
+    };
+    range(lo[a], hi[a], r[0], r[1]);
+    range(lo[b], hi[b], r[2], r[3]);
     // A linear-fractional map on a box with a positive denominator: extremes at the corners. Padded
     // far above the rounding of a ray's (u, v) and of these quotients.
     for (int i = 0; i < 4; ++i) r[i] += (i % 2 ? 1.0f : -1.0f) * (1e-5f + 1e-5f * std::fabs(r[i]));
@@ -232,10 +234,17 @@ MovingGrid* MovingBin::make_grid(const MovingTree& tree, int face) const {
         }
         sorted.push_back(Placed{MovingCandidate{swept_[i], key_of(swept_[i], face), std::uint32_t(i)}, sp});
     }
-    std::sort(sorted.begin(), sorted.end(), [](const Placed& a, const Placed& b) {
-        return a.candidate.key < b.candidate.key ||
-               (a.candidate.key == b.candidate.key && a.candidate.index < b.candidate.index);
-    });
+    // In key order, then index order (the candidates were placed in index order): a radix sort of
+    // (key, position) words, then the candidates moved into that order.
+    {
+        std::vector<std::uint64_t> words(sorted.size()), spare;
+        for (std::size_t i = 0; i < sorted.size(); ++i)
+            words[i] = (std::uint64_t(sortable_bits(sorted[i].candidate.key)) << 32) | std::uint64_t(i);
+        radix_sort(words, spare, 64, [](std::uint64_t w) { return w; }, 1);
+        std::vector<Placed> ordered(sorted.size());
+        for (std::size_t i = 0; i < words.size(); ++i) ordered[i] = sorted[std::size_t(words[i] & 0xFFFFFFFFu)];
+        sorted.swap(ordered);
+    }
     std::vector<std::uint32_t> count(std::size_t(n) * std::size_t(n) + 1, 0);
     for (Placed& p : sorted) {
         Span& sp = p.span;
