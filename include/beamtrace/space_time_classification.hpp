@@ -33,7 +33,8 @@ struct SpaceTimeSettings {
     // A bin no call used in this many calls is freed at the start of the next.
     int keep_calls = 4;
     // Not the thesis (docs/raycls.md): packet queries trace the static part with the kd-tree's
-    // interval traversal of 4x4 packets (kd16's) instead of the static classification; the moving
+    // interval traversal of 4x4 packets (kd16's) instead of the static classification, occlusion
+    // packets reversed towards their light first where they can be (as MLRTA does); the moving
     // part is classified as ever. Closest hits at equal t may then name another triangle of the tie.
     bool static_packets = false;
 

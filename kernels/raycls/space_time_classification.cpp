@@ -14,6 +14,7 @@
 
 #include "beamtrace/error.hpp"
 #include "common/query_runner.hpp"
+#include "mlrta/shadow_reversal.hpp"
 #include "raycls/moving_bin.hpp"
 
 namespace beamtrace {
@@ -357,10 +358,19 @@ void SpaceTimeClassification::occluded(std::span<const Packet16> packets, std::s
                                        std::span<std::uint32_t> occluded, const QueryOptions& options) const {
     check_query("SpaceTimeClassification::occluded", packets.size(), occluded.size(), options);
     check_packet_times("SpaceTimeClassification::occluded", packets.size(), slot_times, packets);
-    if (impl_->settings.static_packets)
-        impl_->still.kd_tree().occluded(packets, occluded, options);
-    else
+    if (impl_->settings.static_packets) {
+        // Shadow packets reversed towards their light where they can be (MLRTA section 6, as the
+        // stream tracer does): the lanes then share an origin and go together through interval
+        // traversal instead of one by one. The same segments, so the same occlusion.
+        const KdTree& kd = impl_->still.kd_tree();
+        const double tolerance = mlrta::reversal_tolerance(kd.scene().bounds());
+        std::vector<Packet16> traced(packets.size());
+        for (std::size_t p = 0; p < packets.size(); ++p)
+            if (!mlrta::reverse_for_occlusion(packets[p], tolerance, traced[p])) traced[p] = packets[p];
+        kd.occluded(traced, occluded, options);
+    } else {
         impl_->still.occluded(packets, occluded, options);
+    }
     if (impl_->moving.empty()) return;
     const PacketLanes lanes(packets, slot_times);
     std::vector<std::uint8_t> any(lanes.rays.size());
