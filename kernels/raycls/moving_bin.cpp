@@ -234,6 +234,12 @@ MovingGrid* MovingBin::make_grid(const MovingTree& tree, int face) const {
         }
         sorted.push_back(Placed{MovingCandidate{swept_[i], key_of(swept_[i], face), std::uint32_t(i)}, sp});
     }
+    if (sorted.empty()) {  // nothing on this face: one empty cell for the rays that take it
+        g->n = 1;
+        g->offsets.assign(2, 0);
+        context_.add(g->bytes(), 0);
+        return g.release();
+    }
     // In key order, then index order (the candidates were placed in index order): a radix sort of
     // (key, position) words, then the candidates moved into that order.
     {
@@ -245,7 +251,12 @@ MovingGrid* MovingBin::make_grid(const MovingTree& tree, int face) const {
         for (std::size_t i = 0; i < words.size(); ++i) ordered[i] = sorted[std::size_t(words[i] & 0xFFFFFFFFu)];
         sorted.swap(ordered);
     }
-    std::vector<std::uint32_t> count(std::size_t(n) * std::size_t(n) + 1, 0);
+    // Counts shifted by two: after the prefix sums offsets[c + 1] is where cell c starts and serves
+    // as its cursor, which ends where cell c + 1 starts; then offsets[c] .. offsets[c + 1] is cell c
+    // (no copy of the n x n + 1 offsets).
+    const std::size_t cells = std::size_t(n) * std::size_t(n);
+    std::vector<std::uint32_t>& offsets = g->offsets;
+    offsets.assign(cells + 2, 0);
     for (Placed& p : sorted) {
         Span& sp = p.span;
         if (std::size_t(sp.i1 - sp.i0 + 1) * std::size_t(sp.j1 - sp.j0 + 1) > wide_cells) {
@@ -254,16 +265,16 @@ MovingGrid* MovingBin::make_grid(const MovingTree& tree, int face) const {
             continue;
         }
         for (int j = sp.j0; j <= sp.j1; ++j)
-            for (int i = sp.i0; i <= sp.i1; ++i) ++count[std::size_t(j * n + i) + 1];
+            for (int i = sp.i0; i <= sp.i1; ++i) ++offsets[std::size_t(j * n + i) + 2];
     }
-    for (std::size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
-    g->offsets = count;
-    g->items.resize(count.back());
+    for (std::size_t c = 2; c < offsets.size(); ++c) offsets[c] += offsets[c - 1];
+    g->items.resize(offsets.back());
     for (const Placed& p : sorted) {  // in key order: each cell's list stays sorted
         const Span& sp = p.span;
         for (int j = sp.j0; j <= sp.j1; ++j)
-            for (int i = sp.i0; i <= sp.i1; ++i) g->items[count[std::size_t(j * n + i)]++] = p.candidate;
+            for (int i = sp.i0; i <= sp.i1; ++i) g->items[offsets[std::size_t(j * n + i) + 1]++] = p.candidate;
     }
+    offsets.pop_back();
     g->wide.shrink_to_fit();
     context_.add(g->bytes(), g->items.size() + g->wide.size());
     return g.release();
