@@ -286,42 +286,16 @@ void bm_ep_search(benchmark::State& state, const std::string& name) {
     per(state, beams.size(), "searches of initial tiles");
 }
 
-void bm_triangle_test(benchmark::State& state, const std::string& name) {
-    Case& c = scene_case(name);
-    if (!usable(state, c)) return;
-    const KdTree::Impl& kd = detail::Access::impl(*c.tree);
-    const TriangleKernels& kernels = *kd.kernels;
-    // The compute cost with the inputs in cache, as in traversal, where a packet's set-up stays in L1
-    // for all its tests: blocks of 256 tests, each block's packets set up side by side first
-    // (untimed), then tested a few times.
-    constexpr std::size_t kBlock = 256;
-    constexpr int kRounds = 4;
-    std::vector<WatertightPacket16> set_up(kBlock);
-    LaneHits lanes;
-    std::size_t tests = 0;
-    for (auto _ : state) {
-        for (std::size_t b = 0; b < c.tests.size(); b += kBlock) {
-            const std::size_t n = std::min(kBlock, c.tests.size() - b);
-            state.PauseTiming();
-            for (std::size_t i = 0; i < n; ++i) set_up[i] = make_watertight_packet(c.packets[c.tests[b + i].first]);
-            state.ResumeTiming();
-            for (int round = 0; round < kRounds; ++round)
-                for (std::size_t i = 0; i < n; ++i) {
-                    kernels.packet_x1(set_up[i], kd.leaf_triangles[c.tests[b + i].second], lanes);
-                    benchmark::DoNotOptimize(lanes);
-                }
-            tests += kRounds * n;
-        }
-    }
-    state.SetItemsProcessed(std::int64_t(tests));
-    state.SetLabel("items: 16-ray triangle tests (inputs in cache)");
-}
+// A packet against a run of leaf triangles (their copies as traversal reads them).
+struct TestRun {
+    std::uint32_t packet;
+    std::uint32_t first, count;  // into the tree's leaf triangles
+};
 
-// Every triangle of the leaf holding a lane's hit against the packet: the mix traversal meets
-// (hits, triangles between the packet's rays, triangles behind its hits), inputs in cache.
-void bm_leaf_tests(benchmark::State& state, const std::string& name) {
-    Case& c = scene_case(name);
-    if (!usable(state, c)) return;
+// 16-ray tests with their inputs in cache, as in traversal, where a packet's set-up stays in L1 for
+// all its tests: runs in blocks of 256, each block's packets set up side by side first (untimed),
+// then every run tested a few times. Counts the share of tests that hit some ray.
+void time_packet_tests(benchmark::State& state, const Case& c, const std::vector<TestRun>& runs, const char* label) {
     const KdTree::Impl& kd = detail::Access::impl(*c.tree);
     const TriangleKernels& kernels = *kd.kernels;
     constexpr std::size_t kBlock = 256;
@@ -330,25 +304,43 @@ void bm_leaf_tests(benchmark::State& state, const std::string& name) {
     LaneHits lanes;
     std::size_t tests = 0, hitting = 0;
     for (auto _ : state) {
-        for (std::size_t b = 0; b < c.leaves.size(); b += kBlock) {
-            const std::size_t n = std::min(kBlock, c.leaves.size() - b);
+        for (std::size_t b = 0; b < runs.size(); b += kBlock) {
+            const std::size_t n = std::min(kBlock, runs.size() - b);
             state.PauseTiming();
-            for (std::size_t i = 0; i < n; ++i) set_up[i] = make_watertight_packet(c.packets[c.leaves[b + i].packet]);
+            for (std::size_t i = 0; i < n; ++i) set_up[i] = make_watertight_packet(c.packets[runs[b + i].packet]);
             state.ResumeTiming();
             for (int round = 0; round < kRounds; ++round)
-                for (std::size_t i = 0; i < n; ++i) {
-                    const KdNode& leaf = kd.nodes[c.leaves[b + i].node];
-                    for (std::uint32_t j = 0; j < leaf.triangle_count(); ++j) {
-                        kernels.packet_x1(set_up[i], kd.leaf_triangles[leaf.offset() + j], lanes);
+                for (std::size_t i = 0; i < n; ++i)
+                    for (std::uint32_t j = 0; j < runs[b + i].count; ++j) {
+                        kernels.packet_x1(set_up[i], kd.leaf_triangles[runs[b + i].first + j], lanes);
                         hitting += lanes.mask != 0;
                         ++tests;
                     }
-                }
         }
     }
     state.SetItemsProcessed(std::int64_t(tests));
     state.counters["hit_rate"] = tests ? double(hitting) / double(tests) : 0.0;
-    state.SetLabel("items: 16-ray triangle tests of whole leaves (inputs in cache)");
+    state.SetLabel(label);
+}
+
+void bm_triangle_test(benchmark::State& state, const std::string& name) {
+    Case& c = scene_case(name);
+    if (!usable(state, c)) return;
+    std::vector<TestRun> runs;
+    for (const auto& [packet, triangle] : c.tests) runs.push_back({packet, triangle, 1});
+    time_packet_tests(state, c, runs, "items: 16-ray triangle tests (inputs in cache)");
+}
+
+// Every triangle of the leaf holding a lane's hit against the packet: the mix traversal meets
+// (hits, triangles between the packet's rays, triangles behind its hits), inputs in cache.
+void bm_leaf_tests(benchmark::State& state, const std::string& name) {
+    Case& c = scene_case(name);
+    if (!usable(state, c)) return;
+    const KdTree::Impl& kd = detail::Access::impl(*c.tree);
+    std::vector<TestRun> runs;
+    for (const LeafVisit& v : c.leaves)
+        runs.push_back({v.packet, kd.nodes[v.node].offset(), kd.nodes[v.node].triangle_count()});
+    time_packet_tests(state, c, runs, "items: 16-ray triangle tests of whole leaves (inputs in cache)");
 }
 
 void bm_lane_box(benchmark::State& state, const std::string& name) {

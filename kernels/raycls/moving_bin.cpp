@@ -343,6 +343,16 @@ Hit MovingBin::scan(const Ray& ray, float time, const Triangle* placed, Hit best
     } else {
         code = direction_code(Float3{-ray.dir.x, -ray.dir.y, -ray.dir.z});
     }
+    // A light buffer's cell, found before any set-up: most rays meet an empty one.
+    std::span<const MovingCandidate> cell_items;
+    const MovingGrid* grid = nullptr;
+    if (!tree.split_origins) {
+        grid = &grid_of(tree, code.face);
+        const int c = grid->index(code.u, code.v);
+        cell_items = {grid->items.data() + grid->offsets[std::size_t(c)],
+                      grid->items.data() + grid->offsets[std::size_t(c) + 1]};
+        if (cell_items.empty() && grid->wide.empty()) return best;
+    }
     const int k = face_axis(code.face);
     const float key_origin = float(face_sign(code.face)) * ray.org[k];
     const float step = std::fabs(ray.dir[k]);
@@ -380,10 +390,7 @@ Hit MovingBin::scan(const Ray& ray, float time, const Triangle* placed, Hit best
         scan_list(cell_of(tree, p, code)->items);
         return best;
     }
-    const MovingGrid& grid = grid_of(tree, code.face);
-    const int c = grid.index(code.u, code.v);
-    if (scan_list({grid.items.data() + grid.offsets[std::size_t(c)], grid.items.data() + grid.offsets[std::size_t(c) + 1]}))
-        scan_list(grid.wide);
+    if (scan_list(cell_items)) scan_list(grid->wide);
     return best;
 }
 

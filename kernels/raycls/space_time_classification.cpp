@@ -297,6 +297,11 @@ struct PacketLanes {
     std::vector<float> times;
     std::vector<std::uint32_t> slots;
     PacketLanes(std::span<const Packet16> packets, std::span<const float> slot_times) {
+        std::size_t lanes = 0;  // reserved once: growing the arrays copied them again and again
+        for (const Packet16& p : packets) lanes += std::size_t(__builtin_popcount(p.active & 0xFFFFu));
+        rays.reserve(lanes);
+        times.reserve(lanes);
+        slots.reserve(lanes);
         for (std::size_t p = 0; p < packets.size(); ++p)
             for (std::uint32_t m = packets[p].active & 0xFFFFu; m; m &= m - 1) {
                 const int i = __builtin_ctz(m);
