@@ -370,8 +370,10 @@ void SpaceTimeClassification::occluded(std::span<const Packet16> packets, std::s
         const KdTree& kd = impl_->still.kd_tree();
         const double tolerance = mlrta::reversal_tolerance(kd.scene().bounds());
         std::vector<Packet16> traced(packets.size());
-        for (std::size_t p = 0; p < packets.size(); ++p)
-            if (!mlrta::reverse_for_occlusion(packets[p], tolerance, traced[p])) traced[p] = packets[p];
+        run_query(packets.size(), options, 256, [&](std::size_t b, std::size_t e, QueryCounters*) {
+            for (std::size_t p = b; p < e; ++p)
+                if (!mlrta::reverse_for_occlusion(packets[p], tolerance, traced[p])) traced[p] = packets[p];
+        });
         kd.occluded(traced, occluded, options);
     } else {
         impl_->still.occluded(packets, occluded, options);
