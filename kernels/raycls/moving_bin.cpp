@@ -206,9 +206,10 @@ Facing direction_rectangle(const Box& box, const Box& apex, int face, float r[4]
 
 MovingGrid* MovingBin::make_grid(const MovingTree& tree, int face) const {
     auto g = std::make_unique<MovingGrid>();
-    // About one cell per candidate, 4..512 a side.
+    // About one cell per moving triangle, 4..256 a side. (512 a side, four cells per candidate of a
+    // face on `spin`, made the grids slower by more than it saved in tests: docs/raycls.md.)
     int n = 4;
-    while (n < 512 && std::size_t(n) * std::size_t(n) < swept_.size()) n *= 2;
+    while (n < 256 && std::size_t(n) * std::size_t(n) < swept_.size()) n *= 2;
     g->n = n;
     const float half = 0.5f * float(n), pad = 1.0f / (64.0f * half);
     const std::size_t wide_cells = std::size_t(n) * std::size_t(n) / 16;
