@@ -47,13 +47,10 @@ public:
         std::vector<Hit> hits(primary.active.rays.size());
         std::vector<std::uint8_t> occluded(shadow.active.rays.size());
         const QueryOptions options{threads, nullptr};
-        FrameSeconds seconds;
-        const auto begin = std::chrono::steady_clock::now();
-        st_->intersect(primary.active.rays, primary.times, hits, options);
-        st_->occluded(shadow.active.rays, shadow.times, occluded, options);
-        seconds.trace = seconds_since(begin);
-        answers.primary.assign(frame.primary.slots(), Hit{});
-        answers.shadow.assign(frame.shadow.slots(), 0);
+        const FrameSeconds seconds = timed_calls(frame, answers, [&] {
+            st_->intersect(primary.active.rays, primary.times, hits, options);
+            st_->occluded(shadow.active.rays, shadow.times, occluded, options);
+        });
         for (std::size_t k = 0; k < hits.size(); ++k) answers.primary[primary.active.slots[k]] = hits[k];
         for (std::size_t k = 0; k < occluded.size(); ++k) answers.shadow[shadow.active.slots[k]] = occluded[k];
         return seconds;
@@ -88,17 +85,26 @@ public:
     }
 
 private:
+    // The frame's two calls, timed; then the answers cleared to every slot (the caller fills them).
+    template <class Calls>
+    static FrameSeconds timed_calls(const FrameRays& frame, FrameAnswers& answers, Calls&& calls) {
+        FrameSeconds seconds;
+        const auto begin = std::chrono::steady_clock::now();
+        calls();
+        seconds.trace = seconds_since(begin);
+        answers.primary.assign(frame.primary.slots(), Hit{});
+        answers.shadow.assign(frame.shadow.slots(), 0);
+        return seconds;
+    }
+
     FrameSeconds trace_packets(const FrameRays& frame, FrameAnswers& answers, int threads) {
         std::vector<PacketHits16> hits(frame.primary.packets.size());
         std::vector<std::uint32_t> occluded(frame.shadow.packets.size());
         const QueryOptions options{threads, nullptr};
-        FrameSeconds seconds;
-        const auto begin = std::chrono::steady_clock::now();
-        st_->intersect(frame.primary.packets, frame.slot_time, hits, options);
-        st_->occluded(frame.shadow.packets, frame.slot_time, occluded, options);
-        seconds.trace = seconds_since(begin);
-        answers.primary.assign(frame.primary.slots(), Hit{});
-        answers.shadow.assign(frame.shadow.slots(), 0);
+        const FrameSeconds seconds = timed_calls(frame, answers, [&] {
+            st_->intersect(frame.primary.packets, frame.slot_time, hits, options);
+            st_->occluded(frame.shadow.packets, frame.slot_time, occluded, options);
+        });
         for (std::size_t slot = 0; slot < frame.primary.slots(); ++slot) {
             if (frame.primary.active(slot)) answers.primary[slot] = hits[slot / 16].hit(int(slot % 16));
             if (frame.shadow.active(slot)) answers.shadow[slot] = (occluded[slot / 16] >> (slot % 16)) & 1u;
