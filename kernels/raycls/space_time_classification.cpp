@@ -250,43 +250,34 @@ SpaceTimeClassification::SpaceTimeClassification(const AnimatedScene& scene, con
 
 namespace {
 
-// The moving part of a closest-hit call: each ray's moving candidates, with its static hit as the bound.
-void moving_intersect(const SpaceTimeClassification::Impl& impl, std::span<const Ray> rays,
-                      std::span<const float> times, std::span<Hit> hits, const QueryOptions& options) {
+// The moving part of a call: each ray's moving candidates at its time. Closest hit (out: Hit, the
+// static hit as the bound) or occlusion (out: 0 / 1, only for the rays the static part left
+// unoccluded).
+template <bool kOcclusion, class Out>
+void moving_part(const SpaceTimeClassification::Impl& impl, std::span<const Ray> rays, std::span<const float> times,
+                 std::span<Out> out, const QueryOptions& options) {
     if (impl.moving.empty()) return;
     impl.start_call();
     std::shared_lock<std::shared_mutex> use(impl.use_mutex);
     const PlacedTimes placed(impl, times);
-    const MovingPlan plan(impl, rays, false);
+    const MovingPlan plan(impl, rays, kOcclusion);
     run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
         MovingPlan::Place place;
         for (std::size_t i = b; i < e; ++i) {
+            if constexpr (kOcclusion)
+                if (out[i]) continue;
             plan.find(times[i], place);
             const Triangle* at = placed.at(times[i]);
-            hits[i] = c ? place.bin->closest<true>(rays[i], times[i], at, hits[i], c, *place.tree, place.frame)
-                        : place.bin->closest<false>(rays[i], times[i], at, hits[i], nullptr, *place.tree, place.frame);
-        }
-    });
-}
-
-// The moving part of an occlusion call, for the rays the static part left unoccluded.
-void moving_occluded(const SpaceTimeClassification::Impl& impl, std::span<const Ray> rays,
-                     std::span<const float> times, std::span<std::uint8_t> occluded, const QueryOptions& options) {
-    if (impl.moving.empty()) return;
-    impl.start_call();
-    std::shared_lock<std::shared_mutex> use(impl.use_mutex);
-    const PlacedTimes placed(impl, times);
-    const MovingPlan plan(impl, rays, true);
-    run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
-        MovingPlan::Place place;
-        for (std::size_t i = b; i < e; ++i) {
-            if (occluded[i]) continue;
-            plan.find(times[i], place);
-            const Triangle* at = placed.at(times[i]);
-            occluded[i] = (c ? place.bin->any<true>(rays[i], times[i], at, c, *place.tree, place.frame)
-                             : place.bin->any<false>(rays[i], times[i], at, nullptr, *place.tree, place.frame))
-                              ? 1
-                              : 0;
+            const raycls::MovingBin& bin = *place.bin;
+            if constexpr (kOcclusion) {
+                out[i] = (c ? bin.any<true>(rays[i], times[i], at, c, *place.tree, place.frame)
+                            : bin.any<false>(rays[i], times[i], at, nullptr, *place.tree, place.frame))
+                             ? 1
+                             : 0;
+            } else {
+                out[i] = c ? bin.closest<true>(rays[i], times[i], at, out[i], c, *place.tree, place.frame)
+                           : bin.closest<false>(rays[i], times[i], at, out[i], nullptr, *place.tree, place.frame);
+            }
         }
     });
 }
@@ -313,12 +304,12 @@ struct PacketLanes {
 };
 
 void check_packet_times(const char* what, std::size_t packets, std::span<const float> slot_times,
-                        std::span<const Packet16> lanes) {
+                        std::span<const Packet16> lanes_of) {
     if (slot_times.size() != packets * 16)
         throw Error(std::string(what) + ": " + std::to_string(slot_times.size()) + " slot times for " +
                     std::to_string(packets) + " packets (16 each)");
     for (std::size_t p = 0; p < packets; ++p)
-        for (std::uint32_t m = lanes[p].active & 0xFFFFu; m; m &= m - 1) {
+        for (std::uint32_t m = lanes_of[p].active & 0xFFFFu; m; m &= m - 1) {
             const std::size_t slot = p * 16 + std::size_t(__builtin_ctz(m));
             if (!std::isfinite(slot_times[slot]))
                 throw Error(std::string(what) + ": slot " + std::to_string(slot) + " has a time that is not finite");
@@ -332,7 +323,7 @@ void SpaceTimeClassification::intersect(std::span<const Ray> rays, std::span<con
     check_query("SpaceTimeClassification::intersect", rays.size(), hits.size(), options);
     check_times("SpaceTimeClassification::intersect", rays.size(), times);
     impl_->still.intersect(rays, hits, options);
-    moving_intersect(*impl_, rays, times, hits, options);
+    moving_part<false>(*impl_, rays, times, hits, options);
 }
 
 void SpaceTimeClassification::occluded(std::span<const Ray> rays, std::span<const float> times,
@@ -340,7 +331,7 @@ void SpaceTimeClassification::occluded(std::span<const Ray> rays, std::span<cons
     check_query("SpaceTimeClassification::occluded", rays.size(), occluded.size(), options);
     check_times("SpaceTimeClassification::occluded", rays.size(), times);
     impl_->still.occluded(rays, occluded, options);
-    moving_occluded(*impl_, rays, times, occluded, options);
+    moving_part<true>(*impl_, rays, times, occluded, options);
 }
 
 void SpaceTimeClassification::intersect(std::span<const Packet16> packets, std::span<const float> slot_times,
@@ -355,7 +346,7 @@ void SpaceTimeClassification::intersect(std::span<const Packet16> packets, std::
     const PacketLanes lanes(packets, slot_times);
     std::vector<Hit> best(lanes.rays.size());
     for (std::size_t k = 0; k < best.size(); ++k) best[k] = hits[lanes.slots[k] / 16].hit(int(lanes.slots[k] % 16));
-    moving_intersect(*impl_, lanes.rays, lanes.times, best, options);
+    moving_part<false>(*impl_, lanes.rays, lanes.times, std::span<Hit>(best), options);
     for (std::size_t k = 0; k < best.size(); ++k) hits[lanes.slots[k] / 16].set_hit(int(lanes.slots[k] % 16), best[k]);
 }
 
@@ -382,7 +373,7 @@ void SpaceTimeClassification::occluded(std::span<const Packet16> packets, std::s
     const PacketLanes lanes(packets, slot_times);
     std::vector<std::uint8_t> any(lanes.rays.size());
     for (std::size_t k = 0; k < any.size(); ++k) any[k] = (occluded[lanes.slots[k] / 16] >> (lanes.slots[k] % 16)) & 1u;
-    moving_occluded(*impl_, lanes.rays, lanes.times, any, options);
+    moving_part<true>(*impl_, lanes.rays, lanes.times, std::span<std::uint8_t>(any), options);
     for (std::size_t k = 0; k < any.size(); ++k)
         if (any[k]) occluded[lanes.slots[k] / 16] |= 1u << (lanes.slots[k] % 16);
 }
