@@ -1,6 +1,13 @@
 // embree1, embree16 and embree-stream: Embree 3 used as its manual advises, the anchor of every
 // speed ratio. Rays are prebuilt (untimed) in Embree's own layout (oracle/embree_native_rays.hpp),
 // a timed pass holds Embree's query calls only, and each pass is timed with both context flags.
+//
+// A ray set of more than EngineOptions::embree_part_packets packets (over a million rays, e.g. 1024x1024 AO with 16 rays a
+// pixel) is prebuilt one part at a time inside each pass: part k converted (untimed), its queries
+// timed, its answers copied out, its layout freed before part k + 1 is made. Prebuilt whole, the
+// three engines' layouts of 16.8 million AO rays held 2.9 GB next to the engine under test
+// (docs/oracle.md); in parts each holds at most one part's (about 60 MB) and only during its pass.
+#include <algorithm>
 #include <chrono>
 
 #include "oracle/embree_native_rays.hpp"
@@ -49,6 +56,7 @@ public:
         native_.reset();  // its rays point into the old Embree scene
         prepared_for_ = nullptr;
         oracle_ = std::make_unique<oracle::EmbreeOracle>(scene, oracle::EmbreeSceneOptions{options.embree_robust, options.embree_build_threads});
+        part_packets_ = std::max<std::size_t>(options.embree_part_packets, 1);
     }
     double build_seconds() const override { return oracle_->build_seconds(); }
     std::size_t memory_bytes() const override { return oracle_->memory_bytes(); }
@@ -61,6 +69,11 @@ public:
     }
 
     void prepare(const RaySet& rays) override {
+        if (rays.packets.size() > part_packets_) {  // prebuilt part by part in each pass
+            native_.reset();
+            prepared_for_ = nullptr;
+            return;
+        }
         // The same ray set as last time (its packets still at the same place, the same size and mode).
         if (native_ && prepared_for_ == &rays && prepared_packets_ == rays.packets.data() &&
             prepared_slots_ == rays.slots() && prepared_mode_ == rays.mode)
@@ -78,6 +91,7 @@ public:
     std::string timing_variant_key() const override { return "context_flag"; }
     double timed_pass(const RaySet& rays, EngineAnswers& answers, int threads, int variant) override {
         prepare(rays);
+        if (rays.packets.size() > part_packets_) return timed_pass_in_parts(rays, answers, threads, variant);
         native_->reset();
         const auto start = std::chrono::steady_clock::now();
         trace_all(*native_, kFlags[variant], threads);
@@ -99,10 +113,38 @@ public:
                                                               : "RTCRay array, rtcOccluded1M";
         }
         if (native_ && prepared_for_ == &rays) j["ray_layout_bytes"] = native_->bytes();
+        if (part_bytes_ > 0 && rays.packets.size() > part_packets_) {
+            j["ray_layout_bytes"] = part_bytes_;  // the most held at once: one part's
+            j["ray_layout_part_rays"] = part_packets_ * 16;
+        }
         return j;
     }
 
 private:
+    double timed_pass_in_parts(const RaySet& rays, EngineAnswers& answers, int threads, int variant) {
+        const bool closest = closest_hit(rays.mode);
+        const std::span<const Packet16> packets(rays.packets);
+        answers.form = EngineAnswers::Form::slots;
+        if (closest)
+            answers.hits.resize(rays.slots());
+        else
+            answers.occluded.resize(rays.slots());
+        double seconds = 0.0;
+        for (std::size_t first = 0; first < packets.size(); first += part_packets_) {
+            const std::size_t count = std::min(part_packets_, packets.size() - first);
+            EmbreeNativeRays part(*oracle_, layout_, packets.subspan(first, count), closest);
+            part_bytes_ = std::max(part_bytes_, part.bytes());
+            const auto start = std::chrono::steady_clock::now();
+            trace_all(part, kFlags[variant], threads);
+            seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            if (closest)
+                part.hits(std::span<Hit>(answers.hits).subspan(first * 16, count * 16));
+            else
+                part.occluded(std::span<std::uint8_t>(answers.occluded).subspan(first * 16, count * 16));
+        }
+        return seconds;
+    }
+
     EmbreeLayout layout_;
     std::unique_ptr<oracle::EmbreeOracle> oracle_;
     std::unique_ptr<EmbreeNativeRays> native_;  // the rays of the timed passes, in Embree's layout
@@ -110,6 +152,8 @@ private:
     const Packet16* prepared_packets_ = nullptr;
     std::size_t prepared_slots_ = 0;
     Mode prepared_mode_ = Mode::primary;
+    std::size_t part_packets_ = EngineOptions::kDefaultEmbreePartPackets;
+    std::size_t part_bytes_ = 0;  // the largest part's layout (sets prebuilt in parts)
 };
 
 }  // namespace

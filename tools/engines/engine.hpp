@@ -37,6 +37,11 @@ struct EngineOptions {
     // Embree engines: threads of Embree's builder (0: Embree's default, every hardware thread).
     // `bench --animation`, which counts build time, sets it to --threads.
     int embree_build_threads = 0;
+    // Embree engines: a ray set of more packets is prebuilt in parts of this many packets inside each
+    // timed pass (each part converted untimed, then timed), so that 16.8 million AO rays do not hold
+    // three engines' layouts (2.9 GB) at once. Tests set it small.
+    std::size_t embree_part_packets = kDefaultEmbreePartPackets;
+    static constexpr std::size_t kDefaultEmbreePartPackets = std::size_t{1} << 16;  // 2^20 ray slots
     // Progress of long builds in [0, 1]; may be empty.
     std::function<void(double)> build_progress;
     // crsh: the scene's objects (SceneSource::object_of_triangle; must outlive build()); empty: the

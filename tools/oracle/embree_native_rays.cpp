@@ -70,6 +70,33 @@ EmbreeNativeRays::EmbreeNativeRays(const EmbreeTarget& target, EmbreeLayout layo
     m.slots = packets.size() * 16;
     if (m.scene == nullptr) throw Error("embree rays: the target has no scene");
 
+    // Room for every active ray (rays Embree refuses are rare): the arrays grow once, never by doubling.
+    std::size_t active_rays = 0, active_packets = 0;
+    for (const Packet16& packet : packets) {
+        active_rays += std::size_t(__builtin_popcount(packet.active & 0xFFFFu));
+        active_packets += (packet.active & 0xFFFFu) != 0;
+    }
+    const std::size_t per_ray = layout == EmbreeLayout::packet16 ? active_packets * 16 : active_rays;
+    m.tfar0.reserve(per_ray);
+    if (m.closest) {
+        m.shift.reserve(per_ray);
+        m.t_scale.reserve(per_ray);
+    }
+    if (layout == EmbreeLayout::packet16) {
+        m.packet_of.reserve(active_packets);
+        m.valid.reserve(active_packets);
+        if (m.closest)
+            m.hit16.reserve(active_packets);
+        else
+            m.ray16.reserve(active_packets);
+    } else {
+        m.slot_of.reserve(active_rays);
+        if (m.closest)
+            m.hit1.reserve(active_rays);
+        else
+            m.ray1.reserve(active_rays);
+    }
+
     if (layout == EmbreeLayout::packet16) {
         for (std::size_t p = 0; p < packets.size(); ++p) {
             std::optional<EmbreeSegment> lane[16];
@@ -198,9 +225,21 @@ void EmbreeNativeRays::trace(EmbreeContextFlag flag, std::size_t begin, std::siz
 }
 
 void EmbreeNativeRays::hits(std::vector<Hit>& out) const {
+    out.resize(layout_->slots);
+    hits(std::span<Hit>(out));
+}
+
+void EmbreeNativeRays::occluded(std::vector<std::uint8_t>& out) const {
+    out.resize(layout_->slots);
+    occluded(std::span<std::uint8_t>(out));
+}
+
+void EmbreeNativeRays::hits(std::span<Hit> out) const {
     const Layout& m = *layout_;
     if (!m.closest) throw Error("embree rays: made for occlusion queries, asked for closest hits");
-    out.assign(m.slots, Hit{});
+    if (out.size() != m.slots)
+        throw Error("embree rays: " + std::to_string(out.size()) + " answer slots for " + std::to_string(m.slots));
+    std::fill(out.begin(), out.end(), Hit{});
     if (m.kind == EmbreeLayout::packet16) {
         for (std::size_t k = 0; k < m.packet_of.size(); ++k) {
             const RTCRayHit16& rh = m.hit16[k];
@@ -220,10 +259,12 @@ void EmbreeNativeRays::hits(std::vector<Hit>& out) const {
     }
 }
 
-void EmbreeNativeRays::occluded(std::vector<std::uint8_t>& out) const {
+void EmbreeNativeRays::occluded(std::span<std::uint8_t> out) const {
     const Layout& m = *layout_;
     if (m.closest) throw Error("embree rays: made for closest-hit queries, asked for occlusion");
-    out.assign(m.slots, 0);
+    if (out.size() != m.slots)
+        throw Error("embree rays: " + std::to_string(out.size()) + " answer slots for " + std::to_string(m.slots));
+    std::fill(out.begin(), out.end(), std::uint8_t{0});
     // Embree marks an occluded ray with tfar = -inf.
     if (m.kind == EmbreeLayout::packet16) {
         for (std::size_t k = 0; k < m.packet_of.size(); ++k)

@@ -60,6 +60,10 @@ public:
     // entries; inactive slots: no hit, not occluded).
     void hits(std::vector<Hit>& out) const;
     void occluded(std::vector<std::uint8_t>& out) const;
+    // The same into the caller's span of exactly packets * 16 entries (e.g. a part of a larger set's
+    // answers); throws beamtrace::Error for another size.
+    void hits(std::span<Hit> out) const;
+    void occluded(std::span<std::uint8_t> out) const;
 
     // Bytes of the prebuilt layout (rays, masks, the copy reset() restores from, slot maps).
     std::size_t bytes() const;

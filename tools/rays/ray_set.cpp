@@ -103,6 +103,12 @@ public:
         ++set_.ray_count;
     }
     void close() { lane_ = 16; }
+    // Room for this many packets, so that a set of hundreds of MB grows once instead of by doubling
+    // (each doubling copies the set and holds both copies for a moment).
+    void reserve(std::size_t packets) {
+        set_.packets.reserve(packets);
+        set_.pixel.reserve(packets * 16);
+    }
 
 private:
     void start_packet() {
@@ -277,14 +283,19 @@ namespace {
 
 // The rays a mode makes from each primary hit, in pixel order: per_hit(point, pixel, writer) adds
 // that hit's rays (and may close the packet first, to start a pixel's rays in a packet of their own).
+// rays_per_hit: the most rays per_hit adds for one hit (what the set reserves).
 template <class PerHit>
 RaySet rays_from_hits(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits, Mode mode,
-                      PerHit&& per_hit) {
+                      std::size_t rays_per_hit, PerHit&& per_hit) {
     RaySet set;
     set.mode = mode;
     set.width = primary.width;
     set.height = primary.height;
     PacketWriter writer(set);
+    std::size_t hit_count = 0;
+    for (std::size_t slot = 0; slot < primary.slots(); ++slot) hit_count += primary.active(slot) && hits[slot].hit();
+    // per_hit closes packets only when its rays fill whole ones, so the rays pack densely.
+    writer.reserve((hit_count * rays_per_hit + 15) / 16 + 1);
     for (std::size_t slot = 0; slot < primary.slots(); ++slot) {
         if (!primary.active(slot) || !hits[slot].hit()) continue;
         per_hit(surface_point(scene, primary.ray(slot), hits[slot]), primary.pixel[slot], writer);
@@ -299,7 +310,7 @@ RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::ve
     check_hits(primary, hits);
     if (lights.empty() || lights.size() > 4096) throw Error("--lights must be between 1 and 4096");
     const float offset = surface_offset(scene);
-    return rays_from_hits(scene, primary, hits, Mode::shadow,
+    return rays_from_hits(scene, primary, hits, Mode::shadow, lights.size(),
                           [&](const SurfacePoint& s, std::uint32_t pixel, PacketWriter& writer) {
                               if (lights.size() >= 16 && lights.size() % 16 == 0) writer.close();
                               for (const Float3& light : lights) {
@@ -312,7 +323,7 @@ RaySet make_shadow_rays(const Scene& scene, const RaySet& primary, const std::ve
 RaySet make_diffuse_rays(const Scene& scene, const RaySet& primary, const std::vector<Hit>& hits) {
     check_hits(primary, hits);
     const float offset = surface_offset(scene);
-    return rays_from_hits(scene, primary, hits, Mode::diffuse,
+    return rays_from_hits(scene, primary, hits, Mode::diffuse, 1,
                           [&](const SurfacePoint& s, std::uint32_t pixel, PacketWriter& writer) {
                               const std::uint32_t h = hash(pixel * 7919u + 0x68e31da4u);
                               Ray ray;
@@ -339,7 +350,7 @@ RaySet make_ao_rays(const Scene& scene, const RaySet& primary, const std::vector
     if (ao_rays <= 0 || ao_rays > 4096) throw Error("--ao-rays must be between 1 and 4096");
     const float offset = surface_offset(scene), length = 0.1f * scene.bounds().diagonal();
     const int strata = int(std::sqrt(double(ao_rays)));
-    return rays_from_hits(scene, primary, hits, Mode::ao, [&](const SurfacePoint& s, std::uint32_t pixel, PacketWriter& writer) {
+    return rays_from_hits(scene, primary, hits, Mode::ao, std::size_t(ao_rays), [&](const SurfacePoint& s, std::uint32_t pixel, PacketWriter& writer) {
         const Frame f = frame_around(s.normal);  // an orthonormal frame around the normal
         if (ao_rays >= 16 && ao_rays % 16 == 0) writer.close();
         for (int i = 0; i < ao_rays; ++i) {

@@ -90,7 +90,8 @@ RaySet make_mode_rays(const Scene& scene, const RaySet& primary, const std::vect
             rays = make_diffuse_rays(scene, primary, hits);
             break;
     }
-    return config.order == Order::input ? rays : reorder(rays, config.order);
+    if (config.order == Order::input) return rays;  // moved (a conditional expression would copy it)
+    return reorder(rays, config.order);
 }
 
 int point_lights(const Workload& w) { return w.mode == Mode::shadow ? w.lights.count() : 0; }
