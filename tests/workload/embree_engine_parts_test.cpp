@@ -1,6 +1,8 @@
 // The Embree engines' timed passes over ray sets prebuilt in parts (EngineOptions::embree_part_packets):
 // the same answers, slot for slot and bit for bit, as the whole set prebuilt at once, for every layout,
 // both query kinds, both context flags and one or two threads; and the stats say what one part held.
+// Also: engines given the caller's Embree scene (EngineOptions::embree_scene) trace it only when it
+// was built alike, and answer as with their own.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -106,4 +108,36 @@ TEST(EmbreeEngineParts, AnswerSpansOfTheWrongSizeAreRefused) {
     }
     std::vector<std::uint8_t> occluded(w.rays.slots());
     EXPECT_THROW(native.occluded(std::span<std::uint8_t>(occluded)), Error);  // made for closest hits
+}
+
+TEST(EmbreeEngineParts, EnginesTraceTheCallersSceneOnlyWhenBuiltAlike) {
+    const Workload w = make(Mode::primary);
+    for (const char* name : {"embree1", "embree16", "embree-stream"})
+        for (bool robust : {true, false}) {
+            const std::string what = std::string(name) + (robust ? " robust" : " not robust");
+            auto engine = make_engine(name);
+            EngineOptions options;
+            options.embree_robust = robust;
+            options.embree_scene = w.oracle;  // robust, Embree's default threads
+            engine->build(w.source.scene, options);
+            const nlohmann::json stats = engine->stats(w.rays);
+            EXPECT_EQ(stats["scene_shared"].get<bool>(), robust) << what;
+            EXPECT_EQ(stats["robust"].get<bool>(), robust) << what;
+            EXPECT_GT(engine->build_seconds(), 0.0) << what << ": its own build is timed either way";
+            EXPECT_GT(engine->memory_bytes(), 0u) << what;
+            EngineAnswers answers;
+            engine->timed_pass(w.rays, answers, 1, 0);
+            ASSERT_EQ(answers.hits.size(), w.rays.slots()) << what;
+            std::size_t differ = 0;
+            for (std::size_t s = 0; s < w.rays.slots(); ++s)
+                differ += answers.hits[s].triangle != w.reference_hits[s].triangle;
+            EXPECT_EQ(differ, 0u) << what;
+        }
+    // Another thread count for the builder is another build: not shared.
+    auto engine = make_engine("embree16");
+    EngineOptions options;
+    options.embree_build_threads = 1;
+    options.embree_scene = w.oracle;
+    engine->build(w.source.scene, options);
+    EXPECT_FALSE(engine->stats(w.rays)["scene_shared"].get<bool>());
 }

@@ -55,11 +55,22 @@ public:
     void build(const Scene& scene, const EngineOptions& options) override {
         native_.reset();  // its rays point into the old Embree scene
         prepared_for_ = nullptr;
-        oracle_ = std::make_unique<oracle::EmbreeOracle>(scene, oracle::EmbreeSceneOptions{options.embree_robust, options.embree_build_threads});
+        const oracle::EmbreeSceneOptions wanted{options.embree_robust, options.embree_build_threads};
+        // Built here either way, so that the build is timed and counted as this engine's; when the
+        // caller holds the same scene built alike, this copy goes at once and the passes trace that one.
+        auto own = std::make_shared<oracle::EmbreeOracle>(scene, wanted);
+        build_seconds_ = own->build_seconds();
+        memory_bytes_ = own->memory_bytes();
+        scene_shared_ = options.embree_scene && options.embree_scene->options() == wanted &&
+                        options.embree_scene->embree_triangle_count() == own->embree_triangle_count();
+        if (scene_shared_)
+            oracle_ = options.embree_scene;
+        else
+            oracle_ = std::move(own);
         part_packets_ = std::max<std::size_t>(options.embree_part_packets, 1);
     }
-    double build_seconds() const override { return oracle_->build_seconds(); }
-    std::size_t memory_bytes() const override { return oracle_->memory_bytes(); }
+    double build_seconds() const override { return build_seconds_; }
+    std::size_t memory_bytes() const override { return memory_bytes_; }
 
     // Untimed use (tests, pictures): the rays converted for this call, the coherent flag.
     void trace(const RaySet& rays, bool closest, EngineAnswers& answers, int threads) const override {
@@ -104,6 +115,7 @@ public:
         nlohmann::json j = {
             {"embree_triangles", oracle_->embree_triangle_count()},
             {"robust", oracle_->robust()},
+            {"scene_shared", scene_shared_},
             {"layout", layout_ == EmbreeLayout::single     ? "RTCRayHit per ray, rtcIntersect1"
                        : layout_ == EmbreeLayout::packet16 ? "RTCRayHit16 per 4x4 packet, rtcIntersect16"
                                                            : "RTCRayHit array, rtcIntersect1M"}};
@@ -146,7 +158,10 @@ private:
     }
 
     EmbreeLayout layout_;
-    std::unique_ptr<oracle::EmbreeOracle> oracle_;
+    std::shared_ptr<const oracle::EmbreeOracle> oracle_;  // its own scene, or the caller's built alike
+    double build_seconds_ = 0.0;
+    std::size_t memory_bytes_ = 0;
+    bool scene_shared_ = false;  // tracing the caller's scene (EngineOptions::embree_scene)
     std::unique_ptr<EmbreeNativeRays> native_;  // the rays of the timed passes, in Embree's layout
     const RaySet* prepared_for_ = nullptr;
     const Packet16* prepared_packets_ = nullptr;

@@ -21,6 +21,7 @@
 #include "beamtrace/space_time_classification.hpp"
 #include "beamtrace/stream.hpp"
 #include "beamtrace/vlf.hpp"
+#include "oracle/embree_oracle.hpp"
 #include "rays/ray_set.hpp"
 
 namespace beamtrace::workload {
@@ -37,6 +38,11 @@ struct EngineOptions {
     // Embree engines: threads of Embree's builder (0: Embree's default, every hardware thread).
     // `bench --animation`, which counts build time, sets it to --threads.
     int embree_build_threads = 0;
+    // Embree engines: an Embree scene already built on the very Scene given to build() (the caller's
+    // promise), e.g. the benchmark's oracle. When its options equal {embree_robust,
+    // embree_build_threads} the engines still build (and time, and count) their own, but free it at
+    // once and trace this one: the same BVH, without three copies held (the room: 88 MB each).
+    std::shared_ptr<const oracle::EmbreeOracle> embree_scene;
     // Embree engines: a ray set of more packets is prebuilt in parts of this many packets inside each
     // timed pass (each part converted untimed, then timed), so that 16.8 million AO rays do not hold
     // three engines' layouts (2.9 GB) at once. Tests set it small.

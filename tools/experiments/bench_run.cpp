@@ -120,6 +120,7 @@ TimedEngine build_engine(const Workload& w, const std::string& name, const Bench
     report::ProgressBar bar("build " + progress_label(name, options), options.progress && report::stderr_is_terminal());
     EngineOptions eo = options.engine_options;
     eo.object_of_triangle = w.source.object_of_triangle;
+    eo.embree_scene = w.oracle;  // the Embree engines trace the oracle's scene when built alike
     if (bar.enabled()) eo.build_progress = [&bar](double f) { bar.update(f); };
     run.engine->build(w.source.scene, eo);
     bar.finish();

@@ -31,6 +31,7 @@ struct EmbreeOracle::Impl {
     double build_seconds = 0.0;
     std::size_t memory_bytes = 0;
     bool robust = true;
+    EmbreeSceneOptions options;
 
     Impl() = default;
     Impl(const Impl&) = delete;
@@ -51,6 +52,7 @@ EmbreeOracle::EmbreeOracle(const Scene& scene, const EmbreeSceneOptions& options
     m.scene = rtcNewScene(m.device->get());
     m.check("rtcNewScene");
     m.robust = options.robust;
+    m.options = options;
     rtcSetSceneFlags(m.scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
     rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_HIGH);
     m.check("scene set-up");
@@ -182,6 +184,7 @@ double EmbreeOracle::build_seconds() const { return impl_->build_seconds; }
 std::size_t EmbreeOracle::memory_bytes() const { return impl_->memory_bytes; }
 std::size_t EmbreeOracle::embree_triangle_count() const { return impl_->embree_triangles; }
 bool EmbreeOracle::robust() const { return impl_->robust; }
+const EmbreeSceneOptions& EmbreeOracle::options() const { return impl_->options; }
 RTCSceneTy* EmbreeOracle::native_scene() const { return impl_->scene; }
 std::uint32_t EmbreeOracle::triangle_id(unsigned embree_prim) const { return impl_->triangle_id(embree_prim); }
 std::uint32_t EmbreeOracle::triangle_id(unsigned /*geometry*/, unsigned embree_prim) const {

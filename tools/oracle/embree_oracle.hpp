@@ -44,6 +44,7 @@ struct EmbreeSceneOptions {
     // Threads Embree's builder may use (its device's "threads" setting); 0: Embree's default, every
     // hardware thread. Benchmarks that count build time set it to the run's --threads.
     int build_threads = 0;
+    bool operator==(const EmbreeSceneOptions&) const = default;
 };
 
 class EmbreeOracle : public EmbreeTarget {
@@ -78,6 +79,8 @@ public:
     std::size_t embree_triangle_count() const;
     // Whether the scene was built with RTC_SCENE_FLAG_ROBUST.
     bool robust() const;
+    // The options the scene was built with.
+    const EmbreeSceneOptions& options() const;
 
     // For callers that issue Embree queries themselves (EmbreeNativeRays: rays prebuilt in
     // Embree's layouts): the committed scene, and the scene's triangle id of an Embree primID.
