@@ -4,6 +4,7 @@
 // come from the SSE4.2 table.
 #include "simd/isa_unit.hpp"
 #include "vlf/query/footprint_scan_impl.hpp"
+#include "vlf/stream/tile_ray_batch_avx2_impl.hpp"
 
 namespace beamtrace {
 namespace {
@@ -33,8 +34,8 @@ const kdtree::PacketKernels& simd::table<kdtree::PacketKernels, Isa::avx2>() {
 template <>
 const vlf::VlfKernels& simd::table<vlf::VlfKernels, Isa::avx2>() {
     static constexpr vlf::VlfKernels k{
-        Isa::avx2, Unit::lookup_packet,          scan_footprints,       vlf::occlude_entries_scalar,
-        nullptr,   vlf::batch_candidates_scalar, vlf::batch_test_scalar};
+        Isa::avx2, Unit::lookup_packet,        scan_footprints,      vlf::occlude_entries_scalar,
+        nullptr,   vlf::batch_candidates_avx2, vlf::batch_test_avx2};
     return k;
 }
 

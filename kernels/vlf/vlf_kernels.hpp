@@ -3,7 +3,7 @@
 // the footprint scan (tile_footprint.hpp) and the occlusion by a run of tile entries (entry_occlusion.hpp; AVX-512
 // only, the reference elsewhere) and the closest hit among a leaf's entries (entry_closest_hit.hpp; AVX-512 only,
 // nullptr elsewhere: the walk's own leaf loop), and the two kernels of batched one-tile occlusion (tile_ray_batch.hpp;
-// AVX-512 only, the references elsewhere).
+// AVX-512 and AVX2, the references on SSE4.2).
 #include <cstdint>
 
 #include "simd/dispatch.hpp"
@@ -26,7 +26,7 @@ struct VlfKernels {
     ScanFootprintsFn scan_footprints;
     OccludeEntriesFn occlude_entries;
     ClosestEntriesFn closest_entries;
-    BatchCandidatesFn batch_candidates;  // tile_ray_batch.hpp (AVX-512; the references elsewhere)
+    BatchCandidatesFn batch_candidates;  // tile_ray_batch.hpp (AVX-512, AVX2; the references on SSE4.2)
     BatchTestFn batch_test;
 };
 

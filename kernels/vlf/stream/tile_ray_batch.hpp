@@ -14,8 +14,9 @@
 // call with most lanes idle, the pairs of a batch fill the lanes. Occlusion is an OR over the pairs,
 // so their order, and the pairs of rays found occluded before their turn (skipped), change nothing.
 //
-// The scalar references (this header) and the AVX-512 kernels (tile_ray_batch_impl.hpp) give the
-// same pairs, in the same order, and the same bits (tests/vlf/vlf_kernels_test.cpp).
+// The scalar references (this header), the AVX-512 kernels (tile_ray_batch_impl.hpp) and the AVX2
+// ones (tile_ray_batch_avx2_impl.hpp) give the same pairs, in the same order, and the same bits
+// (tests/vlf/vlf_kernels_test.cpp).
 #include <cstdint>
 
 #include "beamtrace/scene.hpp"
