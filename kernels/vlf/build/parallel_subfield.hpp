@@ -78,6 +78,16 @@ public:
         const void* p = cache_ ? static_cast<const void*>(&lazy_[index]) : static_cast<const void*>(&tiles_[index]);
         _mm_prefetch(static_cast<const char*>(p), _MM_HINT_T0);
     }
+    // The header of tile `index` (its leaf count, the head of its block), once its entry is cached
+    // (prefetch_tile a step earlier); nothing for a lazy tile not built yet.
+    void prefetch_header(std::uint32_t index) const {
+        const void* p = nullptr;
+        if (!cache_)
+            p = pool_.data() + tiles_[index].offset;
+        else
+            p = lazy_[index].load(std::memory_order_relaxed);
+        if (p) _mm_prefetch(static_cast<const char*>(p), _MM_HINT_T0);
+    }
     void prefetch_block(TileRef ref, std::uint32_t first, std::uint32_t count) const {
         const char* a = reinterpret_cast<const char*>(ref.block + first);
         const char* b = reinterpret_cast<const char*>(ref.block + first + (count ? count : 1));

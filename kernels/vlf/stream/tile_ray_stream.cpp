@@ -148,6 +148,12 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
         const auto [first, end] = range(b);
         for (std::size_t i = first; i < end; ++i) psf.prefetch_tile(rays[i].tile);
     };
+    // Stage 1b: each tile's header (its pointer is cached by then).
+    auto request_headers = [&](std::size_t b) {
+        const auto [first, end] = range(b);
+        for (std::size_t i = first; i < end; ++i)
+            if (i == first || rays[i].tile != rays[i - 1].tile) psf.prefetch_header(rays[i].tile);
+    };
     // Stage 2: the splits and leaf ends at the head of each block.
     auto request_heads = [&](std::size_t b) {
         const auto [first, end] = range(b);
@@ -265,7 +271,7 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
         }
     };
     // Batch b is tested while b + 1 is scanned, b + 2 has its groups' entries requested, b + 3 its
-    // leaves' entries (or groups), b + 5 its blocks' heads, b + 7 its tile entries (distances
+    // leaves' entries (or groups), b + 5 its blocks' heads, b + 6 its tiles' headers, b + 7 its tile entries (distances
     // measured on the bunny's and the room's AO rays).
     // Under a memory budget the pipeline is drained every kQuiescentBatches batches, where the
     // thread holds no tile and says so (tile_cache.hpp): evicted blocks are then freed within a PSF.
@@ -275,6 +281,7 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
         const std::size_t b1 = std::min(batches, b0 + segment);
         for (std::size_t b = b0; b < b1 + T; ++b) {
             if (b < b1) request_entries(b);
+            if (b >= b0 + 1 && b - 1 < b1) request_headers(b - 1);
             if (b >= b0 + H && b - H < b1) request_heads(b - H);
             if (b >= b0 + L && b - L < b1) request_entries_of_leaves(b - L);
             if (b >= b0 + G && b - G < b1) request_groups(b - G);
