@@ -358,14 +358,20 @@ void SpaceTimeClassification::occluded(std::span<const Packet16> packets, std::s
         // Shadow packets reversed towards their light where they can be (MLRTA section 6, as the
         // stream tracer does): the lanes then share an origin and go together through interval
         // traversal instead of one by one. The same segments, so the same occlusion.
+        // Reversed a block at a time and traced at once, on the call's threads: one pass over the
+        // packets, no copy of all of them.
         const KdTree& kd = impl_->still.kd_tree();
         const double tolerance = mlrta::reversal_tolerance(kd.scene().bounds());
-        std::vector<Packet16> traced(packets.size());
-        run_query(packets.size(), options, 256, [&](std::size_t b, std::size_t e, QueryCounters*) {
-            for (std::size_t p = b; p < e; ++p)
-                if (!mlrta::reverse_for_occlusion(packets[p], tolerance, traced[p])) traced[p] = packets[p];
+        run_query(packets.size(), options, 256, [&](std::size_t b, std::size_t e, QueryCounters* c) {
+            constexpr std::size_t kBlock = 64;
+            std::vector<Packet16> traced(std::min(kBlock, e - b));
+            for (std::size_t p0 = b; p0 < e; p0 += kBlock) {
+                const std::size_t n = std::min(kBlock, e - p0);
+                for (std::size_t k = 0; k < n; ++k)
+                    if (!mlrta::reverse_for_occlusion(packets[p0 + k], tolerance, traced[k])) traced[k] = packets[p0 + k];
+                kd.occluded(std::span<const Packet16>(traced.data(), n), occluded.subspan(p0, n), QueryOptions{1, c});
+            }
         });
-        kd.occluded(traced, occluded, options);
     } else {
         impl_->still.occluded(packets, occluded, options);
     }

@@ -161,6 +161,20 @@ TEST(SpaceTime, PacketsAnswerAsTheSnapshot) {
         std::vector<std::uint32_t> occ(shadow.size());
         st.intersect(camera, slot_times, hits, QueryOptions{2, nullptr});
         st.occluded(shadow, slot_times, occ, QueryOptions{1, nullptr});
+        {
+            // Two threads over more packets than one part takes (the static packets are reversed and
+            // traced block by block on each thread): the same bits as one thread.
+            std::vector<Packet16> many;
+            std::vector<float> many_times;
+            for (int copy = 0; copy < 3; ++copy) {
+                many.insert(many.end(), shadow.begin(), shadow.end());
+                many_times.insert(many_times.end(), slot_times.begin(), slot_times.end());
+            }
+            std::vector<std::uint32_t> two(many.size());
+            st.occluded(many, many_times, two, QueryOptions{2, nullptr});
+            for (std::size_t p = 0; p < many.size(); ++p)
+                ASSERT_EQ(two[p], occ[p % shadow.size()]) << "packets " << packets << " packet " << p;
+        }
         std::size_t moving_hits = 0;
         for (const float t : offsets) {
             const Scene snapshot = scene.at(t);
