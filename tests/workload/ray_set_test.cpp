@@ -207,3 +207,32 @@ TEST(Bench, MlrtaStatsHaveTheJsonContract) {
     EXPECT_EQ(j["engines"]["mlrta"]["stats"]["ep_resume"], true);
     EXPECT_EQ(j["engines"]["mlrta"]["stats"]["stuck_retry"], true);
 }
+
+TEST(Bench, ReleasingWhatTheBenchDoesNotReadChangesNoAnswer) {
+    // The bench frees the primary rays, their hits and the pixel indices before building engines.
+    for (const Mode mode : {Mode::primary, Mode::ao, Mode::diffuse}) {
+        WorkloadConfig config;
+        config.scene = "tetra:2";
+        config.width = config.height = 24;
+        config.mode = mode;
+        config.ao_rays = 4;
+        BenchOptions options;
+        options.engines = {"kd1", "embree1"};
+        options.repeats = 1;
+        options.anchor_engines = false;
+        const BenchResult kept = run_bench(make_workload(config), options);
+        Workload w = make_workload(config);
+        const std::size_t rays = w.rays.ray_count, slots = w.rays.slots();
+        release_untraced(w);
+        EXPECT_TRUE(w.primary.packets.empty() && w.primary.pixel.empty() && w.primary_hits.empty());
+        EXPECT_TRUE(w.rays.pixel.empty());
+        EXPECT_EQ(w.rays.ray_count, rays);
+        EXPECT_EQ(w.rays.slots(), slots);
+        const BenchResult released = run_bench(w, options);
+        ASSERT_EQ(released.engines.size(), kept.engines.size());
+        for (std::size_t e = 0; e < kept.engines.size(); ++e) {
+            EXPECT_EQ(released.engines[e].hits, kept.engines[e].hits) << to_string(mode);
+            EXPECT_EQ(released.engines[e].oracle.mismatch, 0u) << to_string(mode);
+        }
+    }
+}

@@ -307,7 +307,8 @@ std::function<void()> add_bench_command(CLI::App& app) {
             if (cmd->count(only) > 0) throw Error(std::string(only) + " applies to --animation only");
         if (args->scene.scene.empty()) throw Error("--scene is required (or --animation)");
         for (const std::string& e : bo.engines) workload::make_engine(e);  // reject unknown names before loading
-        const workload::Workload w = workload::make_workload(wc);
+        workload::Workload w = workload::make_workload(wc);
+        workload::release_untraced(w);
         const workload::BenchResult result = workload::run_bench(w, bo);
         const std::string header = bench_header(result);
         const report::Table table = workload::to_table(result);

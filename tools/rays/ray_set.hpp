@@ -33,7 +33,9 @@ struct RaySet {
     Mode mode = Mode::primary;
     int width = 0, height = 0;
     std::vector<Packet16> packets;
-    std::vector<std::uint32_t> pixel;  // per slot (packet * 16 + lane): the pixel, or kNoPixel if inactive
+    // Per slot (packet * 16 + lane): the pixel, or kNoPixel if inactive. Empty once released by
+    // release_untraced (the bench, which reads no pixel).
+    std::vector<std::uint32_t> pixel;
     std::size_t ray_count = 0;         // active lanes over all packets
     // When the packets form an image (primary rays, shadow rays to one light or the area light, in input
     // order): packet (x, y) is packets[y * packets_x + x], each a 4x4 block of pixels. 0 when the packets

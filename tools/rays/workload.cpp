@@ -104,6 +104,12 @@ std::string describe_rays(Mode mode, Order order, int point_lights, bool area_li
     return text + ", order " + to_string(order);
 }
 
+void release_untraced(Workload& w) {
+    w.primary = RaySet();
+    std::vector<Hit>().swap(w.primary_hits);
+    std::vector<std::uint32_t>().swap(w.rays.pixel);
+}
+
 void replace_rays(Workload& w, RaySet rays) {
     w.mode = rays.mode;
     w.rays = std::move(rays);
