@@ -4,7 +4,8 @@
 // BEAMTRACE_STREAM_BENCH_SIZE=1024 measures the 1024x1024 image instead (16.7 million rays).
 //
 //   <scene>/shared_points   sampling the stream for shared points (per call)
-//   <scene>/keys            one key per ray (per ray)
+//   <scene>/keys            one key per ray, the widest instruction set's kernel (per ray)
+//   <scene>/keys_scalar     the same by the scalar reference (per ray)
 //   <scene>/radix_sort      the sort of the keys (per ray)
 //   <scene>/gather          the rays copied into sorted order (per ray)
 //   <scene>/cut_groups      the sorted rays cut into groups (per ray)
@@ -113,12 +114,12 @@ void bm_shared_points(benchmark::State& state, const std::string& name) {
     for (auto _ : state) benchmark::DoNotOptimize(stream::find_shared_points(c.rays, box, 4096, 0.01f, 16));
 }
 
-void bm_keys(benchmark::State& state, const std::string& name) {
+void bm_keys(benchmark::State& state, const std::string& name, Isa isa) {
     StreamCase& c = stream_case(name);
     if (!usable(state, c)) return;
     const Box box = detail::Access::impl(*c.tree).bounds;
     for (auto _ : state) {
-        stream::make_keys(c.rays, box, c.shared, c.keys);
+        stream::make_keys(c.rays, box, c.shared, c.keys, isa);
         benchmark::DoNotOptimize(c.keys.data());
     }
     per_ray(state, c.rays.size());
@@ -138,7 +139,7 @@ void bm_gather(benchmark::State& state, const std::string& name) {
     StreamCase& c = stream_case(name);
     if (!usable(state, c)) return;
     for (auto _ : state) {
-        for (std::size_t k = 0; k < c.rays.size(); ++k) c.sorted[k] = c.rays[c.order[k]];
+        stream::gather_in_order(c.rays, c.order, 0, c.rays.size(), c.sorted);
         benchmark::DoNotOptimize(c.sorted.data());
     }
     per_ray(state, c.rays.size());
@@ -221,7 +222,8 @@ void register_benchmarks() {
             benchmark::RegisterBenchmark((name + "/" + term).c_str(), f)->Unit(benchmark::kMicrosecond);
         };
         reg("shared_points", [name](benchmark::State& s) { bm_shared_points(s, name); });
-        reg("keys", [name](benchmark::State& s) { bm_keys(s, name); });
+        reg("keys", [name](benchmark::State& s) { bm_keys(s, name, best_isa()); });
+        reg("keys_scalar", [name](benchmark::State& s) { bm_keys(s, name, Isa::scalar); });
         reg("radix_sort", [name](benchmark::State& s) { bm_radix_sort(s, name); });
         reg("gather", [name](benchmark::State& s) { bm_gather(s, name); });
         reg("cut_groups", [name](benchmark::State& s) { bm_cut_groups(s, name); });

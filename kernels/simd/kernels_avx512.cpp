@@ -8,6 +8,7 @@
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include "simd/isa_unit.hpp"
+#include "stream/ray_keys_impl.hpp"
 #include "vlf/query/entry_closest_hit_impl.hpp"
 #include "vlf/query/entry_occlusion_impl.hpp"
 #include "vlf/query/footprint_scan_impl.hpp"
@@ -65,6 +66,12 @@ const vlf::VlfKernels& simd::table<vlf::VlfKernels, Isa::avx512>() {
     static constexpr vlf::VlfKernels k{Isa::avx512,           unit::Unit::lookup_packet, unit::scan_footprints,
                                        unit::occlude_entries, unit::closest_entries,     unit::batch_candidates,
                                        unit::batch_test};
+    return k;
+}
+
+template <>
+const stream::KeyKernels& simd::table<stream::KeyKernels, Isa::avx512>() {
+    static constexpr stream::KeyKernels k{Isa::avx512, stream::KeyLanes<xsimd::avx512bw>::keys};
     return k;
 }
 

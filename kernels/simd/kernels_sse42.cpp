@@ -1,6 +1,7 @@
 // Every kernel table of the library for SSE4.2 (simd/dispatch.hpp). This unit alone is compiled for
 // SSE4.2 (kernels/CMakeLists.txt, beamtrace_isa_unit) and instantiates every xsimd template for it.
 #include "simd/isa_unit.hpp"
+#include "stream/ray_keys_impl.hpp"
 #include "vlf/query/footprint_scan_impl.hpp"
 
 namespace beamtrace {
@@ -37,6 +38,12 @@ const vlf::VlfKernels& simd::table<vlf::VlfKernels, Isa::sse42>() {
     static constexpr vlf::VlfKernels k{
         Isa::sse42, Unit::lookup_packet,          scan_footprints,       vlf::occlude_entries_scalar,
         nullptr,    vlf::batch_candidates_scalar, vlf::batch_test_scalar};
+    return k;
+}
+
+template <>
+const stream::KeyKernels& simd::table<stream::KeyKernels, Isa::sse42>() {
+    static constexpr stream::KeyKernels k{Isa::sse42, stream::KeyLanes<xsimd::sse4_2>::keys};
     return k;
 }
 

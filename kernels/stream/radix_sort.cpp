@@ -19,4 +19,12 @@ void sort_by_key(std::span<const std::uint32_t> keys, std::span<std::uint32_t> o
     }
 }
 
+void gather_in_order(std::span<const Ray> rays, std::span<const std::uint32_t> order, std::size_t begin,
+                     std::size_t end, std::span<Ray> out) {
+    for (std::size_t k = begin; k < end; ++k) {
+        if (k + kGatherAhead < end) __builtin_prefetch(&rays[order[k + kGatherAhead]]);
+        out[k] = rays[order[k]];
+    }
+}
+
 }  // namespace beamtrace::stream

@@ -6,6 +6,8 @@
 #include <span>
 #include <vector>
 
+#include "beamtrace/ray.hpp"
+
 namespace beamtrace::stream {
 
 // The sort's (key, index) words and its scratch, kept by the caller across calls.
@@ -17,5 +19,12 @@ struct SortBuffers {
 // sorted_keys[k] with keys[order[k]].
 void sort_by_key(std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
                  std::span<std::uint32_t> sorted_keys, int parts, SortBuffers& buffers);
+
+// out[k] = rays[order[k]] for k in [begin, end): the rays in sorted order. The reads are random
+// over the whole stream, so each is asked for `kGatherAhead` rays before it is copied (their misses
+// overlap).
+inline constexpr std::size_t kGatherAhead = 16;
+void gather_in_order(std::span<const Ray> rays, std::span<const std::uint32_t> order, std::size_t begin,
+                     std::size_t end, std::span<Ray> out);
 
 }  // namespace beamtrace::stream

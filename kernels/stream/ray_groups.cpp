@@ -24,23 +24,77 @@ std::tuple<std::uint32_t, std::uint32_t, std::uint32_t> origin_bits(const Ray& r
             std::bit_cast<std::uint32_t>(r.org.z)};
 }
 
-// Rays [begin, end) (and their input indices) in order of their origins' bits, stably; unchanged
-// when they are already (one origin, or origins met in order).
+// Scratch of group_by_origin, kept across the cells of a range.
+struct CellScratch {
+    std::vector<std::uint32_t> label, first, count;
+    std::vector<Ray> rays;
+    std::vector<std::uint32_t> order;
+};
+
+// A cell holding more distinct origins than this is sorted by origin instead.
+constexpr std::size_t kMaxLabelledOrigins = 32;
+
+// Rays [begin, end) (and their input indices) in order of their origins' bits, stably.
 void sort_by_origin(std::span<Ray> rays, std::span<std::uint32_t> order, std::uint32_t begin, std::uint32_t end,
-                    std::vector<std::uint32_t>& local, std::vector<Ray>& cell_rays, std::vector<std::uint32_t>& cell_order) {
-    bool sorted = true;
-    for (std::uint32_t i = begin + 1; i < end && sorted; ++i) sorted = !(origin_bits(rays[i]) < origin_bits(rays[i - 1]));
-    if (sorted) return;
-    local.resize(end - begin);
-    for (std::uint32_t i = 0; i < end - begin; ++i) local[i] = i;
-    std::stable_sort(local.begin(), local.end(), [&](std::uint32_t a, std::uint32_t b) {
+                    CellScratch& c) {
+    c.label.resize(end - begin);
+    for (std::uint32_t i = 0; i < end - begin; ++i) c.label[i] = i;
+    std::stable_sort(c.label.begin(), c.label.end(), [&](std::uint32_t a, std::uint32_t b) {
         return origin_bits(rays[begin + a]) < origin_bits(rays[begin + b]);
     });
-    cell_rays.assign(rays.begin() + begin, rays.begin() + end);
-    cell_order.assign(order.begin() + begin, order.begin() + end);
+    c.rays.assign(rays.begin() + begin, rays.begin() + end);
+    c.order.assign(order.begin() + begin, order.begin() + end);
     for (std::uint32_t i = 0; i < end - begin; ++i) {
-        rays[begin + i] = cell_rays[local[i]];
-        order[begin + i] = cell_order[local[i]];
+        rays[begin + i] = c.rays[c.label[i]];
+        order[begin + i] = c.order[c.label[i]];
+    }
+}
+
+// Rays [begin, end) (and their input indices) put so that each origin's rays are together, stably
+// (a ray keeps its place among the rays of its origin); unchanged when they already are. The origins
+// follow in the order of their first rays: found by comparing each ray with the distinct origins met
+// so far (a cell holds a few hit points, each the origin of all its pixel's rays), then a counting
+// sort by origin. Cells of more than kMaxLabelledOrigins origins are sorted by their origins' bits.
+void group_by_origin(std::span<Ray> rays, std::span<std::uint32_t> order, std::uint32_t begin, std::uint32_t end,
+                     CellScratch& c) {
+    const std::uint32_t n = end - begin;
+    c.label.resize(n);
+    c.first.clear();
+    bool grouped = true;  // no origin comes back after another one's rays
+    std::uint32_t last = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const Ray& r = rays[begin + i];
+        std::uint32_t o = last;
+        if (i == 0 || !same_origin(r, rays[begin + c.first[last]])) {
+            o = std::uint32_t(c.first.size());
+            for (std::uint32_t d = 0; d < c.first.size(); ++d)
+                if (same_origin(r, rays[begin + c.first[d]])) {
+                    o = d;
+                    break;
+                }
+            if (o < c.first.size()) {
+                grouped = false;
+            } else {
+                if (c.first.size() == kMaxLabelledOrigins) {
+                    sort_by_origin(rays, order, begin, end, c);
+                    return;
+                }
+                c.first.push_back(i);
+            }
+        }
+        c.label[i] = o;
+        last = o;
+    }
+    if (grouped) return;
+    c.count.assign(c.first.size() + 1, 0);
+    for (std::uint32_t i = 0; i < n; ++i) ++c.count[c.label[i] + 1];
+    for (std::size_t d = 1; d < c.count.size(); ++d) c.count[d] += c.count[d - 1];
+    c.rays.assign(rays.begin() + begin, rays.begin() + end);
+    c.order.assign(order.begin() + begin, order.begin() + end);
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const std::uint32_t to = begin + c.count[c.label[i]]++;
+        rays[to] = c.rays[i];
+        order[to] = c.order[i];
     }
 }
 
@@ -72,9 +126,7 @@ namespace {
 // cut_groups() over the sorted range [begin, end), which starts and ends at changes of key.
 void cut_range(std::span<Ray> rays, std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
                std::uint32_t begin, std::uint32_t end, std::uint32_t min_rays, std::vector<RayGroup>& groups) {
-    std::vector<std::uint32_t> local;
-    std::vector<Ray> cell_rays;
-    std::vector<std::uint32_t> cell_order;
+    CellScratch scratch;
     const auto add = [&](std::uint32_t k, std::uint32_t e, RayGroup::Kind kind) {
         if (kind != RayGroup::Kind::no_segment && e - k < min_rays) kind = RayGroup::Kind::single;
         add_run(groups, k, e - k, kind);
@@ -91,9 +143,9 @@ void cut_range(std::span<Ray> rays, std::span<const std::uint32_t> keys, std::sp
             while (e < end && (keys[e] >> kPointShift) == point) ++e;
             add(k, e, RayGroup::Kind::pencil);
         } else {
-            // One origin cell: its rays in order of their exact origins, then each origin's run.
+            // One origin cell: each exact origin's rays together, then each origin's run.
             while (e < end && keys[e] == key) ++e;
-            if (e - k > 1) sort_by_origin(rays, order, k, e, local, cell_rays, cell_order);
+            if (e - k > 1) group_by_origin(rays, order, k, e, scratch);
             for (std::uint32_t r = k; r < e;) {
                 std::uint32_t run_end = r + 1;
                 while (run_end < e && same_origin(rays[run_end], rays[r])) ++run_end;

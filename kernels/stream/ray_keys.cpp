@@ -92,47 +92,71 @@ SharedPoints find_shared_points(std::span<const Ray> rays, const Box& scene_box,
     return shared;
 }
 
-int shared_point_of(const Ray& ray, const SharedPoints& shared) {
-    const float r2 = shared.radius * shared.radius;
+namespace {
+
+// The first of points[0 .. count) the ray passes through, or -1 (shared_point_of).
+int point_of(const Ray& ray, const SharedPoint* points, int count, float r2) {
     const bool finite = std::isfinite(ray.tfar);
     const Float3 end = finite ? far_end(ray) : ray.org;  // computed once for every point
-    for (std::size_t p = 0; p < shared.points.size(); ++p) {
-        const SharedPoint& s = shared.points[p];
+    for (int p = 0; p < count; ++p) {
+        const SharedPoint& s = points[p];
         if (!s.ends) {
-            if (ray.org.x == s.at.x && ray.org.y == s.at.y && ray.org.z == s.at.z) return int(p);
+            if (ray.org.x == s.at.x && ray.org.y == s.at.y && ray.org.z == s.at.z) return p;
         } else if (finite && distance2(end, s.at) <= r2) {
-            return int(p);
+            return p;
         }
     }
     return -1;
 }
 
-void make_keys(std::span<const Ray> rays, const Box& scene_box, const SharedPoints& shared,
-               std::span<std::uint32_t> keys) {
-    // morton_cell() with the divisions by the extent done once (the same cells but for rounding of
-    // the scale, which only moves points between neighbouring cells).
-    const Float3 e = scene_box.extent();
-    float scale[3];
-    for (int k = 0; k < 3; ++k) scale[k] = e[k] > 0.0f ? 1024.0f / e[k] : 0.0f;
-    const bool points = !shared.points.empty();
-    for (std::size_t i = 0; i < rays.size(); ++i) {
+}  // namespace
+
+int shared_point_of(const Ray& ray, const SharedPoints& shared) {
+    return point_of(ray, shared.points.data(), int(shared.points.size()), shared.radius * shared.radius);
+}
+
+void make_keys_scalar(const KeyInputs& in, const Ray* rays, std::size_t n, std::uint32_t* keys) {
+    const float r2 = in.radius * in.radius;
+    for (std::size_t i = 0; i < n; ++i) {
         const Ray& r = rays[i];
         if (!describes_segment(r)) {
             keys[i] = kNoSegmentKey;
             continue;
         }
-        const int p = points ? shared_point_of(r, shared) : -1;
+        const int p = in.point_count > 0 ? point_of(r, in.points, in.point_count, r2) : -1;
         if (p >= 0) {
             keys[i] = kPencilBit | (std::uint32_t(p) << kPointShift) | octahedral_code(r.dir, kPencilDirectionBits);
             continue;
         }
         std::uint32_t code = 0;
         for (int k = 0; k < 3; ++k) {
-            const float q = (r.org[k] - scene_box.lower[k]) * scale[k];
+            const float q = (r.org[k] - in.lower[k]) * in.scale[k];
             code |= spread_bits_3(!(q > 0.0f) ? 0u : q < 1023.0f ? std::uint32_t(q) : 1023u) << k;
         }
         keys[i] = code;
     }
 }
 
+void make_keys(std::span<const Ray> rays, const Box& scene_box, const SharedPoints& shared,
+               std::span<std::uint32_t> keys, Isa isa) {
+    // morton_cell() with the divisions by the extent done once (the same cells but for rounding of
+    // the scale, which only moves points between neighbouring cells).
+    KeyInputs in;
+    const Float3 e = scene_box.extent();
+    for (int k = 0; k < 3; ++k) {
+        in.lower[k] = scene_box.lower[k];
+        in.scale[k] = e[k] > 0.0f ? 1024.0f / e[k] : 0.0f;
+    }
+    in.points = shared.points.data();
+    in.point_count = int(shared.points.size());
+    in.radius = shared.radius;
+    simd::select<KeyKernels>(isa).make_keys(in, rays.data(), std::min(rays.size(), keys.size()), keys.data());
+}
+
 }  // namespace beamtrace::stream
+
+template <>
+const beamtrace::stream::KeyKernels& beamtrace::simd::table<beamtrace::stream::KeyKernels, beamtrace::Isa::scalar>() {
+    static constexpr beamtrace::stream::KeyKernels k{beamtrace::Isa::scalar, beamtrace::stream::make_keys_scalar};
+    return k;
+}

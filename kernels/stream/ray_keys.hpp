@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "beamtrace/ray.hpp"
+#include "simd/dispatch.hpp"
 #include "beamtrace/vec.hpp"
 
 namespace beamtrace::stream {
@@ -52,7 +53,29 @@ std::uint32_t octahedral_code(const Float3& dir, int bits);
 std::uint32_t morton_cell(const Float3& p, const Box& box);
 
 // keys[i] for rays[i].
+// keys[i] for rays[i], by the kernels of `isa` (every instruction set gives the same keys).
 void make_keys(std::span<const Ray> rays, const Box& scene_box, const SharedPoints& shared,
-               std::span<std::uint32_t> keys);
+               std::span<std::uint32_t> keys, Isa isa = Isa::scalar);
+
+// What a call's keys are made from (make_keys fills it once per call).
+struct KeyInputs {
+    float lower[3] = {0, 0, 0};  // the scene box's lower corner
+    float scale[3] = {0, 0, 0};  // 1024 / the box's extent per axis (0 where it is flat)
+    const SharedPoint* points = nullptr;
+    int point_count = 0;
+    float radius = 0.0f;  // SharedPoints::radius
+};
+
+// keys[i] for rays[i], i < n. The scalar form is the reference; the SIMD forms
+// (ray_keys_impl.hpp) give its keys bit for bit.
+using MakeKeysFn = void (*)(const KeyInputs& in, const Ray* rays, std::size_t n, std::uint32_t* keys);
+void make_keys_scalar(const KeyInputs& in, const Ray* rays, std::size_t n, std::uint32_t* keys);
+
+struct KeyKernels {
+    Isa isa;
+    MakeKeysFn make_keys;
+};
 
 }  // namespace beamtrace::stream
+
+BEAMTRACE_KERNEL_TABLE(beamtrace::stream::KeyKernels);

@@ -64,7 +64,7 @@ void in_arena(int threads, F&& f) {
 
 // Keys, sort, gather and groups of a call's rays into `out` (the calling thread's buffers).
 void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray> rays, bool occlusion,
-                 const QueryOptions& options, SortedStream& out) {
+                 const QueryOptions& options, Isa isa, SortedStream& out) {
     if (rays.size() > std::size_t(0xFFFFFFFFu))
         throw Error("StreamTracer: at most 4294967295 rays per call, not " + std::to_string(rays.size()));
     stream::SharedPoints shared = stream::find_shared_points(rays, bounds, s.sample_rays, s.shared_point_fraction,
@@ -75,18 +75,12 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
     out.sorted_keys.resize(rays.size());
     out.rays.resize(rays.size());
     run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
-        stream::make_keys(rays.subspan(b, e - b), bounds, shared, std::span(out.keys).subspan(b, e - b));
+        stream::make_keys(rays.subspan(b, e - b), bounds, shared, std::span(out.keys).subspan(b, e - b), isa);
     });
     in_arena(options.threads,
              [&] { stream::sort_by_key(out.keys, out.order, out.sorted_keys, options.threads, out.sort_buffers); });
-    run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
-        // Random reads: fetch a few rays ahead so that their misses overlap.
-        constexpr std::size_t kAhead = 16;
-        for (std::size_t k = b; k < e; ++k) {
-            if (k + kAhead < e) __builtin_prefetch(&rays[out.order[k + kAhead]]);
-            out.rays[k] = rays[out.order[k]];
-        }
-    });
+    run_query_parts(rays.size(), options,
+                    [&](std::size_t b, std::size_t e) { stream::gather_in_order(rays, out.order, b, e, out.rays); });
     in_arena(options.threads, [&] {
         stream::cut_groups(out.rays, out.sorted_keys, out.order, s.min_group_rays, out.groups, options.threads);
     });
@@ -246,7 +240,7 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, std::span<const R
             if (on) kept_in_use = false;
         }
     } release{use_kept};
-    sort_stream(kd.scene.bounds(), s, rays, kOcclusion, options, sorted);
+    sort_stream(kd.scene.bounds(), s, rays, kOcclusion, options, kd.kernels->isa, sorted);
     const auto sorted_at = std::chrono::steady_clock::now();
     const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, out);
     run_query(sorted.groups.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
@@ -297,7 +291,7 @@ void stream_order(std::span<const Ray> rays, const Box& scene_bounds, bool close
         return;
     }
     SortedStream sorted;
-    sort_stream(scene_bounds, settings, rays, !closest_hit, options, sorted);
+    sort_stream(scene_bounds, settings, rays, !closest_hit, options, best_isa(), sorted);
     std::copy(sorted.order.begin(), sorted.order.end(), order.begin());
 }
 

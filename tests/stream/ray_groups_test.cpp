@@ -2,6 +2,7 @@
 // together, for runs of any length (one light's millions of rays included).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numeric>
 #include <vector>
 
@@ -94,5 +95,41 @@ TEST(StreamGroups, RaysOfOneOriginMeetInTheirCell) {
     for (std::uint32_t k = 0; k < 6; ++k) {
         EXPECT_EQ(rays[k].org.x, 0.25f);  // the rays moved with their input indices
         EXPECT_EQ(order[k] % 2, 0u);
+    }
+}
+
+TEST(StreamGroups, EachOriginOfACellMakesItsOwnGroupsWhateverTheirNumber) {
+    // Cells of 5 and of 40 origins (past the count compared one by one, sorted instead), 4 rays
+    // each, interleaved: every group holds one origin's 4 rays in their input order.
+    for (int origins : {5, 40}) {
+        std::vector<Ray> rays;
+        std::vector<std::uint32_t> keys;
+        for (int i = 0; i < 4 * origins; ++i) {
+            const int o = (i * 7) % origins;  // 7 is prime to 5 and 40: every origin 4 times
+            rays.push_back(Ray{{0.5f + 1e-4f * float(o), 0.25f, float(o % 3)}, 0.0f, {1, 0, float(i)}, 1.0f});
+            keys.push_back(3u);
+        }
+        std::vector<std::uint32_t> order(rays.size());
+        std::iota(order.begin(), order.end(), 0u);
+        const std::vector<Ray> input = rays;
+        std::vector<RayGroup> groups;
+        cut_groups(rays, keys, order, 4, groups);
+        expect_partition(groups, std::uint32_t(rays.size()));
+        ASSERT_EQ(groups.size(), std::size_t(origins)) << origins;
+        std::vector<int> seen(std::size_t(origins), 0);
+        for (const RayGroup& g : groups) {
+            EXPECT_EQ(g.kind, RayGroup::Kind::origin);
+            ASSERT_EQ(g.count, 4u);
+            for (std::uint32_t k = g.begin; k < g.begin + g.count; ++k) {
+                EXPECT_EQ(rays[k].org.x, rays[g.begin].org.x);
+                EXPECT_EQ(rays[k].org.z, rays[g.begin].org.z);
+                EXPECT_EQ(rays[k].dir.z, input[order[k]].dir.z);  // moved with its index
+                if (k > g.begin) {
+                    EXPECT_LT(order[k - 1], order[k]);  // stable
+                }
+            }
+            ++seen[std::size_t(std::lround((rays[g.begin].org.x - 0.5f) / 1e-4f))];
+        }
+        for (int s : seen) EXPECT_EQ(s, 1);
     }
 }

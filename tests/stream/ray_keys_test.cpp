@@ -116,3 +116,74 @@ TEST(StreamKeys, RaysThatDescribeNoSegmentGetTheirOwnKey) {
     EXPECT_EQ(keys[2], kNoSegmentKey);
     EXPECT_NE(keys[3], kNoSegmentKey);
 }
+
+TEST(StreamKeys, EveryInstructionSetGivesTheReferenceKeysBitForBit) {
+    // Rays of every kind the keys tell apart: through shared origins and end points (within the
+    // radius and just outside it), anywhere, outside the box, with infinite tfar, negative and
+    // signed-zero direction components, and ones that describe no segment; counts that leave a tail
+    // after the last whole batch.
+    const Box b = unit_box();
+    SharedPoints shared;
+    shared.radius = 1e-3f;
+    shared.points = {SharedPoint{{0.5f, 0.25f, 0.75f}, false}, SharedPoint{{0.1f, 0.9f, 0.3f}, true},
+                     SharedPoint{{0.7f, 0.7f, 0.2f}, true}, SharedPoint{{0.5f, 0.25f, 0.75f}, true}};
+    std::mt19937 random(11);
+    std::uniform_real_distribution<float> unit(-0.2f, 1.2f), dir(-1.0f, 1.0f);
+    std::uniform_int_distribution<int> kind(0, 11);
+    std::vector<Ray> rays;
+    for (int i = 0; i < 4099; ++i) {
+        Ray r{{unit(random), unit(random), unit(random)}, 0.0f, {dir(random), dir(random), dir(random)}, 1.0f};
+        switch (kind(random)) {
+            case 0: r.org = shared.points[0].at; break;
+            case 1:
+            case 2: {  // ends at (or within a hair of) an end point
+                const Float3 at = shared.points[1 + i % 2].at;
+                const float miss = i % 3 == 0 ? 2e-3f : 0.0f;
+                r.dir = Float3{at.x + miss, at.y, at.z} - r.org;
+                r.tfar = 1.0f;
+                break;
+            }
+            case 3: r.tfar = kInfinity; break;
+            case 4: r.dir.z = -std::fabs(r.dir.z); break;
+            case 5: r.dir = Float3{-0.0f, 0.0f, -1.0f}; break;
+            case 6: r.org.x = NAN; break;
+            case 7: r.dir = Float3{0, 0, 0}; break;
+            case 8: r.tnear = 2.0f; break;
+            case 9: r.dir.y = kInfinity; break;
+            case 10: r.org = Float3{-5.0f, 40.0f, 0.5f}; break;
+            default: break;
+        }
+        rays.push_back(r);
+    }
+    for (const SharedPoints& points : {shared, SharedPoints{}}) {
+        for (std::size_t n : {std::size_t(0), std::size_t(3), std::size_t(17), rays.size()}) {
+            const std::span<const Ray> some(rays.data(), n);
+            std::vector<std::uint32_t> reference(n), keys(n);
+            make_keys(some, b, points, reference, Isa::scalar);
+            for (Isa isa : {Isa::sse42, Isa::avx2, Isa::avx512}) {
+                if (!isa_available(isa)) continue;
+                std::fill(keys.begin(), keys.end(), 0u);
+                make_keys(some, b, points, keys, isa);
+                for (std::size_t i = 0; i < n; ++i)
+                    ASSERT_EQ(keys[i], reference[i]) << isa_name(isa) << " ray " << i << " of " << n;
+            }
+        }
+    }
+    // The mix above reaches every kind of key.
+    std::vector<std::uint32_t> keys(rays.size());
+    make_keys(rays, b, shared, keys, best_isa());
+    int pencils[4] = {}, cells = 0, none = 0;
+    for (std::uint32_t k : keys) {
+        if (k == kNoSegmentKey)
+            ++none;
+        else if (k & kPencilBit)
+            ++pencils[(k >> kPointShift) & 15u];
+        else
+            ++cells;
+    }
+    EXPECT_GT(pencils[0], 0);
+    EXPECT_GT(pencils[1], 0);
+    EXPECT_GT(pencils[2], 0);
+    EXPECT_GT(cells, 0);
+    EXPECT_GT(none, 0);
+}

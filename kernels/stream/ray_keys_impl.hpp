@@ -1,0 +1,116 @@
+#pragma once
+// The stream tracer's ray keys (ray_keys.hpp) written once over xsimd batches; included only by the
+// per-ISA units. Each lane repeats make_keys_scalar's operations in the same order (contraction is
+// off), so every key is the reference's bit for bit; the rays left over after the last whole batch
+// go through the reference. Only xsimd functions and this file's internal-linkage helpers are used.
+#include <cstdint>
+#include <cstring>
+
+#include <xsimd/xsimd.hpp>
+
+#include "stream/ray_keys.hpp"
+
+namespace beamtrace::stream {
+namespace {
+
+template <class Arch>
+struct KeyLanes {
+    using BF = xsimd::batch<float, Arch>;
+    using BI = xsimd::batch<std::int32_t, Arch>;
+    static constexpr std::size_t kSize = BF::size;
+
+    // spread_bits_2 and spread_bits_3 (common/morton.hpp), lane by lane.
+    static BI spread2(BI x) {
+        x = x & BI(0xFFFF);
+        x = (x | (x << 8)) & BI(0x00FF00FF);
+        x = (x | (x << 4)) & BI(0x0F0F0F0F);
+        x = (x | (x << 2)) & BI(0x33333333);
+        x = (x | (x << 1)) & BI(0x55555555);
+        return x;
+    }
+    static BI spread3(BI x) {
+        x = x & BI(0x3FF);
+        x = (x | (x << 16)) & BI(0x030000FF);
+        x = (x | (x << 8)) & BI(0x0300F00F);
+        x = (x | (x << 4)) & BI(0x030C30C3);
+        x = (x | (x << 2)) & BI(0x09249249);
+        return x;
+    }
+    // The reference's !(q > 0) ? 0 : q < 1023 ? unsigned(q) : 1023 (NaN gives 0).
+    static BI cell(const BF& q) {
+        const BF top(1023.0f);
+        const BI i = xsimd::to_int(xsimd::select(q < top, q, top));
+        return xsimd::select(xsimd::bool_cast(q > BF(0.0f)), i, BI(0));
+    }
+    // octahedral_code(dir, kPencilDirectionBits).
+    static BI octahedral(const BF& dx, const BF& dy, const BF& dz) {
+        const BF zero(0.0f), one(1.0f), half(0.5f);
+        const BF l = (xsimd::abs(dx) + xsimd::abs(dy)) + xsimd::abs(dz);
+        const BF u = dx / l, v = dy / l;
+        const BF fu = (one - xsimd::abs(v)) * xsimd::select(u >= zero, one, BF(-1.0f));
+        const BF fv = (one - xsimd::abs(u)) * xsimd::select(v >= zero, one, BF(-1.0f));
+        const auto lower = dz < zero;
+        const BF su = xsimd::select(lower, fu, u), sv = xsimd::select(lower, fv, v);
+        const BF cells(float(1 << kPencilDirectionBits));
+        return spread2(cell((su * half + half) * cells)) | (spread2(cell((sv * half + half) * cells)) << 1);
+    }
+
+    static void keys(const KeyInputs& in, const Ray* rays, std::size_t n, std::uint32_t* out) {
+        constexpr std::size_t N = kSize;
+        alignas(64) float c[8][N];  // org x, y, z, tnear, dir x, y, z, tfar of the batch's rays
+        const BF zero(0.0f);
+        const float r2 = in.radius * in.radius;
+        std::size_t i = 0;
+        for (; i + N <= n; i += N) {
+            for (std::size_t l = 0; l < N; ++l) {
+                float f[8];
+                static_assert(sizeof(Ray) == sizeof(f));
+                std::memcpy(f, &rays[i + l], sizeof(f));
+                for (int k = 0; k < 8; ++k) c[k][l] = f[k];
+            }
+            const BF ox = BF::load_aligned(c[0]), oy = BF::load_aligned(c[1]), oz = BF::load_aligned(c[2]);
+            const BF tn = BF::load_aligned(c[3]);
+            const BF dx = BF::load_aligned(c[4]), dy = BF::load_aligned(c[5]), dz = BF::load_aligned(c[6]);
+            const BF tf = BF::load_aligned(c[7]);
+            // describes_segment: finite, moving, tnear <= tfar.
+            const BF finite = ((ox - ox) + (oy - oy)) + ((oz - oz) + (dx - dx)) + ((dy - dy) + (dz - dz)) + (tn - tn);
+            const auto valid = (finite == zero) & ((dx != zero) | (dy != zero) | (dz != zero)) & (tn <= tf);
+            BI key = spread3(cell((ox - BF(in.lower[0])) * BF(in.scale[0]))) |
+                     (spread3(cell((oy - BF(in.lower[1])) * BF(in.scale[1]))) << 1) |
+                     (spread3(cell((oz - BF(in.lower[2])) * BF(in.scale[2]))) << 2);
+            if (in.point_count > 0) {
+                const auto finite_t = (tf - tf) == zero;
+                const BF ex = xsimd::select(finite_t, ox + dx * tf, ox);
+                const BF ey = xsimd::select(finite_t, oy + dy * tf, oy);
+                const BF ez = xsimd::select(finite_t, oz + dz * tf, oz);
+                auto open = valid;  // lanes no earlier point took
+                BI point(0);
+                for (int p = 0; p < in.point_count; ++p) {
+                    const SharedPoint& s = in.points[p];
+                    const BF sx(s.at.x), sy(s.at.y), sz(s.at.z);
+                    decltype(open) through;
+                    if (!s.ends) {
+                        through = (ox == sx) & (oy == sy) & (oz == sz);
+                    } else {
+                        const BF ddx = ex - sx, ddy = ey - sy, ddz = ez - sz;
+                        through = finite_t & (((ddx * ddx + ddy * ddy) + ddz * ddz) <= BF(r2));
+                    }
+                    const auto take = open & through;
+                    point = xsimd::select(xsimd::bool_cast(take), BI(p), point);
+                    open = open & !through;
+                }
+                const auto pencil = valid & !open;
+                if (xsimd::any(pencil)) {
+                    const BI pencil_key = BI(std::int32_t(kPencilBit)) | (point << kPointShift) | octahedral(dx, dy, dz);
+                    key = xsimd::select(xsimd::bool_cast(pencil), pencil_key, key);
+                }
+            }
+            key = xsimd::select(xsimd::bool_cast(valid), key, BI(std::int32_t(kNoSegmentKey)));
+            key.store_unaligned(reinterpret_cast<std::int32_t*>(out + i));
+        }
+        make_keys_scalar(in, rays + i, n - i, out + i);
+    }
+};
+
+}  // namespace
+}  // namespace beamtrace::stream
