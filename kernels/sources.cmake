@@ -27,6 +27,10 @@ foreach(source
     common/triangle_kernels.cpp
     kdtree/build_rules.cpp
     kdtree/split_events.cpp
+    kdtree/build_context.cpp
+    kdtree/event_sweep_builder.cpp
+    kdtree/reference_bins.cpp
+    kdtree/binned_builder.cpp
     kdtree/sah_builder.cpp
     kdtree/kd_traversal.cpp
     kdtree/kd_queries.cpp

@@ -39,7 +39,15 @@ struct KdBuildRules {
     // Cells with at most this many triangles become leaves without evaluating splits.
     int leaf_triangles = 1;
 
-    // Throws beamtrace::Error if a constant is out of range (negative costs, fractions outside [0,1]).
+    // Hybrid build: cells holding more than this many triangle references choose their split among
+    // `bins` bin boundaries per axis (and their references' tight bounds) instead of every event;
+    // smaller cells are built by the exact O(N log N) sweep. 0 = the exact sweep everywhere.
+    int binned_above = 0;
+    static constexpr int kMaxBins = 256;
+    int bins = 128;
+
+    // Throws beamtrace::Error if a constant is out of range (negative costs, fractions outside [0,1],
+    // bins outside [2, kMaxBins]).
     void validate() const;
 };
 

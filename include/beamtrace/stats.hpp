@@ -20,6 +20,11 @@ struct KdBuildStats {
     std::size_t flat_cell_splits = 0;      // splits chosen by rule 2
     std::size_t tiny_cell_leaves = 0;      // leaves made by rule 3
     std::size_t bytes = 0;                 // nodes + triangle references
+    // The tree's SAH cost relative to its root's area: sum of traversal_cost x area over inner
+    // nodes and intersection_cost x triangles x area over leaves, divided by the root's area.
+    double sah_cost = 0.0;
+    // Splits made in the binned upper levels (KdBuildRules::binned_above), rule 1's cuts there included.
+    std::size_t binned_splits = 0;
     double build_seconds = 0.0;
 };
 

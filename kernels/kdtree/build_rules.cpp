@@ -17,6 +17,9 @@ void KdBuildRules::validate() const {
         fail("tiny_cell_min_area_fraction must be in [0, 1)");
     if (max_depth < 0 || max_depth > 60) fail("max_depth must be in [0, 60] (0 = automatic)");
     if (leaf_triangles < 0) fail("leaf_triangles must not be negative");
+    if (binned_above < 0) fail("binned_above must not be negative (0 = exact sweep everywhere)");
+    if (bins < 2 || bins > kMaxBins)
+        fail("bins must be in [2, " + std::to_string(kMaxBins) + "], not " + std::to_string(bins));
 }
 
 }  // namespace beamtrace

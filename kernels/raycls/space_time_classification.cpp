@@ -31,9 +31,19 @@ void SpaceTimeSettings::validate() const {
                     std::to_string(min_candidates));
     if (keep_calls < 1)
         throw Error("space-time classification: keep_calls must be at least 1, not " + std::to_string(keep_calls));
+    if (static_binned_above < 0)
+        throw Error("space-time classification: static_binned_above must be at least 0 (0 = exact sweep), not " +
+                    std::to_string(static_binned_above));
 }
 
 namespace {
+
+// The rules of the static part's kd-tree: the caller's, binned above settings.static_binned_above
+// unless they say otherwise.
+KdBuildRules static_tree_rules(KdBuildRules rules, const SpaceTimeSettings& settings) {
+    if (rules.binned_above == 0) rules.binned_above = settings.static_binned_above;
+    return rules;
+}
 
 // About one bin per mean motion of a moving triangle's corners over its mean size.
 int automatic_bins(const AnimatedScene& scene, const std::vector<std::uint32_t>& moving) {
@@ -77,7 +87,7 @@ struct SpaceTimeClassification::Impl {
     mutable std::atomic<std::uint64_t> epoch{1}, bins_made{0}, bins_freed{0};
 
     Impl(const AnimatedScene& s, const SpaceTimeSettings& set, const KdBuildRules& rules)
-        : scene(s), settings((set.validate(), set)), still(s.static_part(), set.space, rules) {
+        : scene(s), settings((set.validate(), set)), still(s.static_part(), set.space, static_tree_rules(rules, set)) {
         for (std::uint32_t t = 0; t < scene.triangle_count(); ++t)
             if (scene.is_moving(t)) moving.push_back(t);
         bins = settings.time_bins ? settings.time_bins : automatic_bins(scene, moving);

@@ -245,6 +245,32 @@ TEST(SpaceTime, BinsOfPastCallsAreFreed) {
     EXPECT_EQ(st.stats().moving_memory_bytes, 0u);
 }
 
+// The static part's kd-tree is binned above SpaceTimeSettings::static_binned_above references
+// unless the caller's rules say otherwise; answers as ever.
+TEST(SpaceTime, StaticTreeIsBinnedAboveItsThreshold) {
+    const AnimatedScene scene = soup_in_motion(900, 5, 6);  // 300 still triangles
+    const std::vector<Ray> rays = random_rays(3000, 7);
+    std::vector<float> times(rays.size());
+    for (std::size_t i = 0; i < times.size(); ++i) times[i] = float(i % 5) * 0.2f;
+    SpaceTimeSettings s;
+    s.static_binned_above = 32;
+    const SpaceTimeClassification binned(scene, s);
+    EXPECT_GT(binned.static_part().kd_tree().stats().binned_splits, 0u);
+    expect_as_snapshots(binned, rays, times, 1);
+    s.static_binned_above = 0;
+    EXPECT_EQ(SpaceTimeClassification(scene, s).static_part().kd_tree().stats().binned_splits, 0u);
+    KdBuildRules rules;
+    rules.binned_above = 64;
+    EXPECT_GT(SpaceTimeClassification(scene, s, rules).static_part().kd_tree().stats().binned_splits, 0u);
+    s.static_binned_above = -1;
+    try {
+        SpaceTimeClassification st(scene, s);
+        ADD_FAILURE() << "no error for static_binned_above -1";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("static_binned_above"), std::string::npos) << e.what();
+    }
+}
+
 TEST(SpaceTime, BadInputIsNamed) {
     const AnimatedScene scene = soup_in_motion(50, 3, 1);
     SpaceTimeSettings bad;

@@ -28,6 +28,29 @@ TEST(KdRules, ValidateRejectsBadConstants) {
     }
 }
 
+TEST(KdRules, ValidateRejectsBadBinning) {
+    auto message = [](const KdBuildRules& r) {
+        try {
+            r.validate();
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    KdBuildRules r;
+    r.binned_above = -1;
+    EXPECT_NE(message(r).find("binned_above"), std::string::npos) << message(r);
+    r = KdBuildRules{};
+    r.bins = 1;
+    EXPECT_NE(message(r).find("bins must be in [2, 256], not 1"), std::string::npos) << message(r);
+    r.bins = KdBuildRules::kMaxBins + 1;
+    EXPECT_NE(message(r).find("bins"), std::string::npos) << message(r);
+    r.bins = KdBuildRules::kMaxBins;
+    r.binned_above = 1;
+    EXPECT_NO_THROW(r.validate());
+    EXPECT_THROW(KdTree::build(test::single_plane(2), KdBuildRules{.bins = 0}), Error);
+}
+
 TEST(KdRules, EmptyCellRuleCutsOffEmptySpaceFirst) {
     // One small cluster in a corner of a big box: the first splits must cut away empty space.
     test::Soup soup;
@@ -65,4 +88,32 @@ TEST(KdRules, TinyCellRuleStopsSubdivision) {
     EXPECT_EQ(b.stats().tiny_cell_leaves, 0u);
     EXPECT_LT(a.stats().nodes, b.stats().nodes);
     EXPECT_GT(a.stats().mean_triangles_per_leaf, b.stats().mean_triangles_per_leaf);
+}
+
+// The binned upper levels take rules 1 and 2 too (rule 1 from the references' tight bounds, rule 2
+// where references lie in a candidate plane), and the switches still turn them off.
+TEST(KdRules, BinnedLevelsKeepRulesOneAndTwo) {
+    test::Soup soup;
+    soup.add({0, 0, 0}, {100, 0, 0}, {0, 0.001f, 0});
+    soup.add({0, 0, 100}, {0.001f, 0, 100}, {0, 0.001f, 100});
+    for (int i = 0; i < 200; ++i) {
+        const float x = 90.0f + float(i % 5), y = float(i / 5);
+        soup.add({x, y, 50}, {x + 1, y, 50}, {x, y + 1, 51});
+    }
+    KdBuildRules binned;
+    binned.binned_above = 8;
+    KdBuildRules off = binned;
+    off.empty_cell_rule = false;
+    const KdTree a = KdTree::build(soup.scene(), binned), b = KdTree::build(soup.scene(), off);
+    EXPECT_GT(a.stats().binned_splits, 0u);
+    EXPECT_GT(a.stats().empty_cell_splits, 0u);
+    EXPECT_EQ(b.stats().empty_cell_splits, 0u);
+
+    const Scene s = test::stacked_boxes(100, 3);
+    binned.binned_above = 1;
+    off = binned;
+    off.flat_cell_rule = false;
+    const KdTree c = KdTree::build(s, binned), d = KdTree::build(s, off);
+    EXPECT_GT(c.stats().flat_cell_splits, 0u);
+    EXPECT_EQ(d.stats().flat_cell_splits, 0u);
 }

@@ -37,39 +37,46 @@ void expect_same_as_brute_force(const KdTree& tree, const std::vector<Ray>& rays
 
 TEST(KdTree, NodesAreEightBytes) { EXPECT_EQ(sizeof(KdNode), 8u); }
 
-TEST(KdTree, RandomSoupEqualsBruteForce) {
+// Every builder (test_scenes.hpp: the exact sweep, and binned upper levels at two settings) against
+// the brute force.
+class KdTreeBuilds : public ::testing::TestWithParam<test::BuildCase> {
+protected:
+    KdBuildRules rules() const { return GetParam().rules; }
+};
+
+TEST_P(KdTreeBuilds, RandomSoupEqualsBruteForce) {
     const Scene s = test::random_soup(3000, 1);
-    const KdTree tree = KdTree::build(s);
+    const KdTree tree = KdTree::build(s, rules());
     expect_same_as_brute_force(tree, test::random_rays(s.bounds(), 20000, 2));
     expect_same_as_brute_force(tree, test::axis_rays(s, 5000, 3));
 }
 
-TEST(KdTree, BoxesOnAGridEqualBruteForce) {
+TEST_P(KdTreeBuilds, BoxesOnAGridEqualBruteForce) {
     // Faces on integer planes: planar triangles exactly on split planes, shared edges everywhere,
     // rays from inside the closed room.
     const Scene s = test::stacked_boxes(200, 4);
-    const KdTree tree = KdTree::build(s);
+    const KdTree tree = KdTree::build(s, rules());
     EXPECT_GT(tree.stats().flat_cell_splits + tree.stats().flat_leaves, 0u);
     expect_same_as_brute_force(tree, test::random_rays(s.bounds(), 20000, 5));
     expect_same_as_brute_force(tree, test::axis_rays(s, 20000, 6));
 }
 
-TEST(KdTree, SinglePlaneEqualsBruteForce) {
+TEST_P(KdTreeBuilds, SinglePlaneEqualsBruteForce) {
     const Scene s = test::single_plane(40);
-    const KdTree tree = KdTree::build(s);
+    const KdTree tree = KdTree::build(s, rules());
     expect_same_as_brute_force(tree, test::random_rays(s.bounds(), 10000, 7));
     expect_same_as_brute_force(tree, test::axis_rays(s, 10000, 8));
 }
 
-TEST(KdTree, EveryRuleSwitchedOffStillExact) {
+TEST_P(KdTreeBuilds, EveryRuleSwitchedOffStillExact) {
     const Scene s = test::stacked_boxes(100, 9);
-    KdBuildRules rules;
-    rules.empty_cell_rule = rules.flat_cell_rule = rules.tiny_cell_rule = false;
-    expect_same_as_brute_force(KdTree::build(s, rules), test::random_rays(s.bounds(), 10000, 10));
-    rules = KdBuildRules{};
-    rules.leaf_triangles = 8;
-    rules.max_depth = 3;
-    expect_same_as_brute_force(KdTree::build(s, rules), test::random_rays(s.bounds(), 10000, 11));
+    KdBuildRules r = rules();
+    r.empty_cell_rule = r.flat_cell_rule = r.tiny_cell_rule = false;
+    expect_same_as_brute_force(KdTree::build(s, r), test::random_rays(s.bounds(), 10000, 10));
+    r = rules();
+    r.leaf_triangles = 8;
+    r.max_depth = 3;
+    expect_same_as_brute_force(KdTree::build(s, r), test::random_rays(s.bounds(), 10000, 11));
 }
 
 TEST(KdTree, RayIntervalIsRespected) {
@@ -90,9 +97,9 @@ TEST(KdTree, RayIntervalIsRespected) {
 
 // A negative tnear reaches behind the origin: planes crossed there must be followed too (the
 // traversal once sent such rays only to the origin's side and lost every hit behind it).
-TEST(KdTree, NegativeTnearFindsHitsBehindTheOrigin) {
+TEST_P(KdTreeBuilds, NegativeTnearFindsHitsBehindTheOrigin) {
     const Scene s = test::random_soup(3000, 21);
-    const KdTree tree = KdTree::build(s);
+    const KdTree tree = KdTree::build(s, rules());
     std::vector<Ray> rays = test::random_rays(s.bounds(), 5000, 22);
     for (std::size_t i = 0; i < rays.size(); ++i) {
         rays[i].tnear = i % 2 ? -1e3f : -0.5f;
@@ -101,9 +108,9 @@ TEST(KdTree, NegativeTnearFindsHitsBehindTheOrigin) {
     expect_same_as_brute_force(tree, rays);
 }
 
-TEST(KdTree, StatisticsAreConsistent) {
+TEST_P(KdTreeBuilds, StatisticsAreConsistent) {
     const Scene s = test::random_soup(5000, 12);
-    const KdTree tree = KdTree::build(s);
+    const KdTree tree = KdTree::build(s, rules());
     const KdBuildStats& st = tree.stats();
     EXPECT_EQ(st.triangles, 5000u);
     EXPECT_EQ(st.nodes, st.inner_nodes + st.leaves);
@@ -115,7 +122,15 @@ TEST(KdTree, StatisticsAreConsistent) {
     EXPECT_GT(st.mean_triangles_per_leaf, 0.5);
     EXPECT_GT(st.empty_leaves, 0u);
     EXPECT_GE(st.build_seconds, 0.0);
+    EXPECT_GT(st.sah_cost, 0.0);
+    if (rules().binned_above > 0)
+        EXPECT_GT(st.binned_splits, 0u);
+    else
+        EXPECT_EQ(st.binned_splits, 0u);
 }
+
+INSTANTIATE_TEST_SUITE_P(Builders, KdTreeBuilds, ::testing::ValuesIn(test::build_cases()),
+                         [](const ::testing::TestParamInfo<test::BuildCase>& info) { return info.param.name; });
 
 TEST(KdTree, DegenerateTrianglesAreCountedAndNeverHit) {
     test::Soup soup;

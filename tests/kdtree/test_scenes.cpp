@@ -95,4 +95,13 @@ std::vector<Ray> axis_rays(const Scene& scene, int n, unsigned seed) {
     return rays;
 }
 
+std::vector<BuildCase> build_cases() {
+    KdBuildRules binned, coarsest;
+    binned.binned_above = 64;
+    binned.bins = 16;
+    coarsest.binned_above = 1;
+    coarsest.bins = 2;
+    return {{"exact", KdBuildRules{}}, {"binned", binned}, {"binned_coarsest", coarsest}};
+}
+
 }  // namespace beamtrace::test

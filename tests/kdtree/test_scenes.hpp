@@ -2,9 +2,12 @@
 // Small scenes and ray sets built in the test itself (no file, no other module), shaped to reach
 // the kd-tree's special cases: triangle soup, axis-aligned boxes (planar triangles on split planes),
 // a single plane, coincident triangles.
+#include <ostream>
 #include <random>
+#include <string>
 #include <vector>
 
+#include "beamtrace/kdtree.hpp"
 #include "beamtrace/ray.hpp"
 #include "beamtrace/scene.hpp"
 
@@ -27,5 +30,15 @@ std::vector<Ray> random_rays(const Box& box, int n, unsigned seed);  // origins 
 // Rays whose direction has exact zero (and -0) components, with origins snapped to coordinates
 // that appear in the scene (so they run inside split planes).
 std::vector<Ray> axis_rays(const Scene& scene, int n, unsigned seed);
+
+// The kd-tree builders the tests run: the exact sweep everywhere ("exact"), binned levels above 64
+// references with 16 bins ("binned"), and binned in every cell of more than one reference with 2
+// bins, the coarsest setting ("binned_coarsest").
+struct BuildCase {
+    std::string name;
+    KdBuildRules rules;
+};
+std::vector<BuildCase> build_cases();
+inline void PrintTo(const BuildCase& c, std::ostream* os) { *os << c.name; }
 
 }  // namespace beamtrace::test

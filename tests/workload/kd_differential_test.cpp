@@ -1,4 +1,5 @@
-// kd1, kd16, mlrta, stream and raycls (and brute, where the scene is small) against the Embree oracle: every procedural scene and
+// kd1, kd16, mlrta, stream and raycls (and brute, where the scene is small; kd1, kd16 and mlrta once
+// more on a kd-tree with binned upper levels) against the Embree oracle: every procedural scene and
 // the shared meshes, from outside and inside cameras, a camera grazing along the floor, a camera on
 // a split plane, random rays; primary, shadow, ao and diffuse rays, shadow rays to several lights and
 // to the area light, in input order and (from the scene's own camera) shuffled. Zero `mismatch` everywhere.
@@ -48,6 +49,13 @@ TEST_P(Differential, EnginesAgreeWithEmbree) {
     variant.mlrta.initial_tile = 32;
     engines.push_back(make_engine("mlrta"));
     engines.back()->build(source.scene, variant);
+    // The kd-tree engines on a tree whose upper levels are binned (cells of more than 256 references).
+    EngineOptions binned;
+    binned.kd_rules.binned_above = 256;
+    for (const char* name : {"kd1", "kd16", "mlrta"}) {
+        engines.push_back(make_engine(name));
+        engines.back()->build(source.scene, binned);
+    }
     if (source.scene.triangle_count() <= 5000) {
         engines.push_back(make_engine("brute"));
         engines.back()->build(source.scene, EngineOptions{});

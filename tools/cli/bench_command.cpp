@@ -128,6 +128,10 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--raycls-st-min-candidates", args->space_time.min_candidates,
                     "raycls-st: moving cells with at most this many candidates are not subdivided")
         ->capture_default_str();
+    cmd->add_option("--raycls-st-kd-binned-above", args->space_time.static_binned_above,
+                    "raycls-st: its static kd-tree binned above this many references when --kd-binned-above is 0 "
+                    "(0 = the exact sweep)")
+        ->capture_default_str();
     cmd->add_option("--raycls-st-keep-calls", args->space_time.keep_calls,
                     "raycls-st: a time bin no query used in this many calls is freed")
         ->capture_default_str();
@@ -152,6 +156,12 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_flag("!--kd-no-flat-cell", args->kd.flat_cell_rule,
                   "kd-tree rule 2 off: no preference for planes covered by coplanar triangles");
     cmd->add_option("--kd-max-depth", args->kd.max_depth, "kd-tree: deepest level (0 = automatic)")
+        ->capture_default_str();
+    cmd->add_option("--kd-binned-above", args->kd.binned_above,
+                    "kd-tree: cells with more triangle references than this choose their split among bin "
+                    "boundaries, smaller ones by the exact event sweep (0 = exact everywhere)")
+        ->capture_default_str();
+    cmd->add_option("--kd-bins", args->kd.bins, "kd-tree: bins per axis of the binned cells (--kd-binned-above)")
         ->capture_default_str();
     cmd->add_option("--kd-tiny-cell", args->kd.tiny_cell_min_area_fraction,
                     "kd-tree rule 3: no cells with less than this fraction of the scene box area (0 = off)")

@@ -26,7 +26,9 @@ nlohmann::json tree_json(const KdBuildStats& s) {
             {"degenerate_triangles", s.degenerate_triangles},
             {"empty_cell_splits", s.empty_cell_splits},
             {"flat_cell_splits", s.flat_cell_splits},
-            {"tiny_cell_leaves", s.tiny_cell_leaves}};
+            {"tiny_cell_leaves", s.tiny_cell_leaves},
+            {"sah_cost", s.sah_cost},
+            {"binned_splits", s.binned_splits}};
 }
 
 namespace {
