@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <string>
 #include <tuple>
 
+#include "beamtrace/error.hpp"
 #include "common/morton.hpp"
 #include "common/ray_validity.hpp"
 
@@ -150,7 +152,9 @@ void make_keys(std::span<const Ray> rays, const Box& scene_box, const SharedPoin
     in.points = shared.points.data();
     in.point_count = int(shared.points.size());
     in.radius = shared.radius;
-    simd::select<KeyKernels>(isa).make_keys(in, rays.data(), std::min(rays.size(), keys.size()), keys.data());
+    if (keys.size() < rays.size())
+        throw Error("make_keys: " + std::to_string(keys.size()) + " keys for " + std::to_string(rays.size()) + " rays");
+    simd::select<KeyKernels>(isa).make_keys(in, rays.data(), rays.size(), keys.data());
 }
 
 }  // namespace beamtrace::stream

@@ -52,8 +52,8 @@ std::uint32_t octahedral_code(const Float3& dir, int bits);
 // The Morton code of a point's cell among 1024^3 cells of the box (points outside are clamped).
 std::uint32_t morton_cell(const Float3& p, const Box& box);
 
-// keys[i] for rays[i].
-// keys[i] for rays[i], by the kernels of `isa` (every instruction set gives the same keys).
+// keys[i] for rays[i], by the kernels of `isa` (every instruction set gives the same keys). keys must
+// hold at least rays.size() (else beamtrace::Error).
 void make_keys(std::span<const Ray> rays, const Box& scene_box, const SharedPoints& shared,
                std::span<std::uint32_t> keys, Isa isa = Isa::scalar);
 
