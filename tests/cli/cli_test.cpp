@@ -289,4 +289,8 @@ TEST(Cli, BenchAnimationOptionsAreChecked) {
     const CommandResult stray = run("bench --scene tetra:1 --engines kd1 --frames 3");
     EXPECT_EQ(stray.exit_code, 2);
     EXPECT_NE(stray.output.find("--frames applies to --animation only"), std::string::npos) << stray.output;
+    const CommandResult stray_tree = run("bench --scene tetra:1 --engines kd1 --raycls-st-kd-binned-above 0");
+    EXPECT_EQ(stray_tree.exit_code, 2);
+    EXPECT_NE(stray_tree.output.find("--raycls-st-kd-binned-above applies to --animation only"), std::string::npos)
+        << stray_tree.output;
 }

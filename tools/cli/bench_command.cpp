@@ -313,7 +313,7 @@ std::function<void()> add_bench_command(CLI::App& app) {
             return;
         }
         for (const char* only : {"--frames", "--samples-per-frame", "--raycls-st-bins", "--raycls-st-depth",
-                                 "--raycls-st-min-candidates", "--raycls-st-keep-calls"})
+                                 "--raycls-st-min-candidates", "--raycls-st-keep-calls", "--raycls-st-kd-binned-above"})
             if (cmd->count(only) > 0) throw Error(std::string(only) + " applies to --animation only");
         if (args->scene.scene.empty()) throw Error("--scene is required (or --animation)");
         for (const std::string& e : bo.engines) workload::make_engine(e);  // reject unknown names before loading
