@@ -1,7 +1,8 @@
 #pragma once
 // The sorting step of the stream tracer: 32-bit keys with their indices sorted by the library's
 // radix sort (common/radix_sort.hpp: stable, 11-bit digits, passes whose digit all keys share
-// skipped, on `parts` threads of the caller's TBB arena), in linear time.
+// skipped, on `parts` threads of the caller's TBB arena), in linear time; then the rays gathered
+// into that order.
 #include <cstdint>
 #include <span>
 #include <vector>

@@ -75,37 +75,39 @@ struct KeyLanes {
             // describes_segment: finite, moving, tnear <= tfar.
             const BF finite = ((ox - ox) + (oy - oy)) + ((oz - oz) + (dx - dx)) + ((dy - dy) + (dz - dz)) + (tn - tn);
             const auto valid = (finite == zero) & ((dx != zero) | (dy != zero) | (dz != zero)) & (tn <= tf);
-            BI key = spread3(cell((ox - BF(in.lower[0])) * BF(in.scale[0]))) |
-                     (spread3(cell((oy - BF(in.lower[1])) * BF(in.scale[1]))) << 1) |
-                     (spread3(cell((oz - BF(in.lower[2])) * BF(in.scale[2]))) << 2);
+            BI key = BI(std::int32_t(kNoSegmentKey));
+            auto cells = valid;  // lanes keyed by their origin's cell: no shared point takes them
             if (in.point_count > 0) {
                 const auto finite_t = (tf - tf) == zero;
                 const BF ex = xsimd::select(finite_t, ox + dx * tf, ox);
                 const BF ey = xsimd::select(finite_t, oy + dy * tf, oy);
                 const BF ez = xsimd::select(finite_t, oz + dz * tf, oz);
-                auto open = valid;  // lanes no earlier point took
                 BI point(0);
                 for (int p = 0; p < in.point_count; ++p) {
                     const SharedPoint& s = in.points[p];
                     const BF sx(s.at.x), sy(s.at.y), sz(s.at.z);
-                    decltype(open) through;
+                    decltype(cells) through;
                     if (!s.ends) {
                         through = (ox == sx) & (oy == sy) & (oz == sz);
                     } else {
                         const BF ddx = ex - sx, ddy = ey - sy, ddz = ez - sz;
                         through = finite_t & (((ddx * ddx + ddy * ddy) + ddz * ddz) <= BF(r2));
                     }
-                    const auto take = open & through;
-                    point = xsimd::select(xsimd::bool_cast(take), BI(p), point);
-                    open = open & !through;
+                    point = xsimd::select(xsimd::bool_cast(cells & through), BI(p), point);
+                    cells = cells & !through;
                 }
-                const auto pencil = valid & !open;
+                const auto pencil = valid & !cells;
                 if (xsimd::any(pencil)) {
                     const BI pencil_key = BI(std::int32_t(kPencilBit)) | (point << kPointShift) | octahedral(dx, dy, dz);
                     key = xsimd::select(xsimd::bool_cast(pencil), pencil_key, key);
                 }
             }
-            key = xsimd::select(xsimd::bool_cast(valid), key, BI(std::int32_t(kNoSegmentKey)));
+            if (xsimd::any(cells)) {  // rays through shared points (a light's shadow rays) need no cell
+                const BI code = spread3(cell((ox - BF(in.lower[0])) * BF(in.scale[0]))) |
+                                (spread3(cell((oy - BF(in.lower[1])) * BF(in.scale[1]))) << 1) |
+                                (spread3(cell((oz - BF(in.lower[2])) * BF(in.scale[2]))) << 2);
+                key = xsimd::select(xsimd::bool_cast(cells), code, key);
+            }
             key.store_unaligned(reinterpret_cast<std::int32_t*>(out + i));
         }
         make_keys_scalar(in, rays + i, n - i, out + i);
