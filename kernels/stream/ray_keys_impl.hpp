@@ -8,6 +8,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "common/morton.hpp"
 #include "stream/ray_keys.hpp"
 
 namespace beamtrace::stream {
@@ -19,23 +20,6 @@ struct KeyLanes {
     using BI = xsimd::batch<std::int32_t, Arch>;
     static constexpr std::size_t kSize = BF::size;
 
-    // spread_bits_2 and spread_bits_3 (common/morton.hpp), lane by lane.
-    static BI spread2(BI x) {
-        x = x & BI(0xFFFF);
-        x = (x | (x << 8)) & BI(0x00FF00FF);
-        x = (x | (x << 4)) & BI(0x0F0F0F0F);
-        x = (x | (x << 2)) & BI(0x33333333);
-        x = (x | (x << 1)) & BI(0x55555555);
-        return x;
-    }
-    static BI spread3(BI x) {
-        x = x & BI(0x3FF);
-        x = (x | (x << 16)) & BI(0x030000FF);
-        x = (x | (x << 8)) & BI(0x0300F00F);
-        x = (x | (x << 4)) & BI(0x030C30C3);
-        x = (x | (x << 2)) & BI(0x09249249);
-        return x;
-    }
     // The reference's !(q > 0) ? 0 : q < 1023 ? unsigned(q) : 1023 (NaN gives 0).
     static BI cell(const BF& q) {
         const BF top(1023.0f);
@@ -52,7 +36,7 @@ struct KeyLanes {
         const auto lower = dz < zero;
         const BF su = xsimd::select(lower, fu, u), sv = xsimd::select(lower, fv, v);
         const BF cells(float(1 << kPencilDirectionBits));
-        return spread2(cell((su * half + half) * cells)) | (spread2(cell((sv * half + half) * cells)) << 1);
+        return spread_bits_2(cell((su * half + half) * cells)) | (spread_bits_2(cell((sv * half + half) * cells)) << 1);
     }
 
     static void keys(const KeyInputs& in, const Ray* rays, std::size_t n, std::uint32_t* out) {
@@ -103,9 +87,9 @@ struct KeyLanes {
                 }
             }
             if (xsimd::any(cells)) {  // rays through shared points (a light's shadow rays) need no cell
-                const BI code = spread3(cell((ox - BF(in.lower[0])) * BF(in.scale[0]))) |
-                                (spread3(cell((oy - BF(in.lower[1])) * BF(in.scale[1]))) << 1) |
-                                (spread3(cell((oz - BF(in.lower[2])) * BF(in.scale[2]))) << 2);
+                const BI code = spread_bits_3(cell((ox - BF(in.lower[0])) * BF(in.scale[0]))) |
+                                (spread_bits_3(cell((oy - BF(in.lower[1])) * BF(in.scale[1]))) << 1) |
+                                (spread_bits_3(cell((oz - BF(in.lower[2])) * BF(in.scale[2]))) << 2);
                 key = xsimd::select(xsimd::bool_cast(cells), code, key);
             }
             key.store_unaligned(reinterpret_cast<std::int32_t*>(out + i));
