@@ -1,12 +1,16 @@
 #pragma once
-// The library's one radix sort: stable, least significant digit first, 11-bit digits, a pass whose
-// digit every record shares skipped, histograms and scatters by part on `parts` threads of the
-// caller's TBB arena. The stream tracer sorts (key, index) words with it, CRSH (key, ray) pairs.
+// The library's one radix sort: stable, least significant digit first, 11-bit digits. One pass
+// counts every digit's histogram (and so finds the digits every record shares: their passes are
+// skipped); the
+// last scatter can hand its records to the caller (`radix_sort_to`), who may write them as it needs
+// them instead of copying them once more. Histograms and scatters by part on `parts` threads of the caller's TBB arena. The stream
+// tracer sorts (key, index) words with it, CRSH (key, ray) pairs, the kd build split events.
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -20,51 +24,115 @@ inline std::uint32_t sortable_bits(float x) {
     return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
 }
 
+namespace radix_detail {
+
+inline constexpr int kDigitBits = 11, kBuckets = 1 << kDigitBits, kMaxDigits = (64 + kDigitBits - 1) / kDigitBits;
+using Histogram = std::array<std::uint32_t, kBuckets>;
+
+// Records [begin, end) of `in` to their buckets: record i goes to position at[digit(in[i])]++, handed
+// to `sink(position, record)`.
+template <class Record, class Digit, class Sink>
+void scatter(const Record* in, std::size_t begin, std::size_t end, Digit digit, std::size_t* at, Sink& sink) {
+    for (std::size_t i = begin; i < end; ++i) sink(at[digit(in[i])]++, in[i]);
+}
+
+}  // namespace radix_detail
+
 // Sorts `records` by the low `key_bits` bits of key(record) (a std::uint64_t); equal keys keep their
-// order. `scratch` is resized to the records' size (reused across calls).
-template <class Record, class KeyOf>
-void radix_sort(std::vector<Record>& records, std::vector<Record>& scratch, int key_bits, KeyOf key, int parts) {
-    constexpr int kDigitBits = 11, kBuckets = 1 << kDigitBits;
+// order. The sorted sequence is handed to `sink(position, record)`, once per record (from several
+// threads when parts > 1); `records` and `scratch` are left in an unspecified order. `scratch` is resized to the records'
+// size (reused across calls). Record must be trivially copyable.
+template <class Records, class KeyOf, class Sink>
+void radix_sort_to(Records& records, Records& scratch, int key_bits, KeyOf key, int parts, Sink sink) {
+    using namespace radix_detail;
+    using Record = typename Records::value_type;
+    static_assert(std::is_trivially_copyable_v<Record>);
     const std::size_t n = records.size();
-    if (n < 2) return;
-    parts = std::max(1, std::min(parts, int(n / 65536) + 1));
-    const auto for_parts = [&](auto&& f) {
-        if (parts == 1) return f(0, std::size_t{0}, n);
-        tbb::parallel_for(0, parts, [&](int p) {
-            f(p, n * std::size_t(p) / std::size_t(parts), n * std::size_t(p + 1) / std::size_t(parts));
-        });
-    };
-    // Which bits vary: a pass over records that all share its digit changes nothing.
-    std::uint64_t all_and = ~std::uint64_t{0}, all_or = 0;
-    for (const Record& r : records) {
-        all_and &= key(r);
-        all_or |= key(r);
+    if (n < 2 || n > std::size_t(0xFFFFFFFFu)) {
+        if (n > 1) std::stable_sort(records.begin(), records.end(), [&](const Record& a, const Record& b) {
+                const std::uint64_t mask = key_bits >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << key_bits) - 1;
+                return (key(a) & mask) < (key(b) & mask);
+            });
+        for (std::size_t i = 0; i < n; ++i) sink(i, records[i]);
+        return;
     }
-    const std::uint64_t varying = all_and ^ all_or;
+    parts = std::max(1, std::min(parts, int(n / 65536) + 1));
+    const int digits = std::min(kMaxDigits, (key_bits + kDigitBits - 1) / kDigitBits);
+    const auto range = [&](int p) {
+        return std::pair{n * std::size_t(p) / std::size_t(parts), n * std::size_t(p + 1) / std::size_t(parts)};
+    };
+    const auto for_parts = [&](auto&& f) {
+        if (parts == 1) return f(0);
+        tbb::parallel_for(0, parts, [&](int p) { f(p); });
+    };
+    // count[p][j]: part p's histogram of digit j; every digit counted in one pass over the input.
+    std::vector<std::array<Histogram, kMaxDigits>> count(static_cast<std::size_t>(parts));
+    for_parts([&](int p) {
+        auto& c = count[std::size_t(p)];
+        for (int j = 0; j < digits; ++j) c[std::size_t(j)].fill(0);
+        const auto [begin, end] = range(p);
+        for (std::size_t i = begin; i < end; ++i) {
+            const std::uint64_t k = key(records[i]);
+            for (int j = 0; j < digits; ++j) ++c[std::size_t(j)][(k >> (j * kDigitBits)) & (kBuckets - 1)];
+        }
+    });
+    // A digit whose one bucket holds every record changes nothing: its pass is skipped.
+    int passes[kMaxDigits], pass_count = 0;
+    for (int j = 0; j < digits; ++j) {
+        bool one_bucket = false;
+        for (std::size_t d = 0; d < std::size_t(kBuckets) && !one_bucket; ++d) {
+            std::size_t total = 0;
+            for (const auto& c : count) total += c[std::size_t(j)][d];
+            one_bucket = total == n;
+        }
+        if (!one_bucket) passes[pass_count++] = j;
+    }
+    if (pass_count == 0) {
+        for (std::size_t i = 0; i < n; ++i) sink(i, records[i]);
+        return;
+    }
     scratch.resize(n);
-    std::vector<std::array<std::size_t, kBuckets>> count(static_cast<std::size_t>(parts));
-    for (int shift = 0; shift < key_bits; shift += kDigitBits) {
-        if (((varying >> shift) & (kBuckets - 1)) == 0) continue;
+    const auto to_scratch = [&](std::size_t to, const Record& r) { scratch[to] = r; };
+    std::vector<std::array<std::size_t, kBuckets>> at(static_cast<std::size_t>(parts));
+    for (int q = 0; q < pass_count; ++q) {
+        const int j = passes[q];
+        const int shift = j * kDigitBits;
         const auto digit = [&](const Record& r) { return std::size_t((key(r) >> shift) & (kBuckets - 1)); };
-        for_parts([&](int p, std::size_t begin, std::size_t end) {
-            auto& c = count[std::size_t(p)];
-            c.fill(0);
-            for (std::size_t i = begin; i < end; ++i) ++c[digit(records[i])];
-        });
+        if (q > 0 && parts > 1)  // the parts hold other records now: count them again
+            for_parts([&](int p) {
+                Histogram& c = count[std::size_t(p)][std::size_t(j)];
+                c.fill(0);
+                const auto [begin, end] = range(p);
+                for (std::size_t i = begin; i < end; ++i) ++c[digit(records[i])];
+            });
         // Offsets: bucket by bucket, part by part (stable).
         std::size_t sum = 0;
         for (std::size_t d = 0; d < std::size_t(kBuckets); ++d)
-            for (auto& c : count) {
-                const std::size_t k = c[d];
-                c[d] = sum;
-                sum += k;
+            for (std::size_t p = 0; p < std::size_t(parts); ++p) {
+                at[p][d] = sum;
+                sum += count[p][std::size_t(j)][d];
             }
-        for_parts([&](int p, std::size_t begin, std::size_t end) {
-            auto& at = count[std::size_t(p)];
-            for (std::size_t i = begin; i < end; ++i) scratch[at[digit(records[i])]++] = records[i];
+        const bool last = q + 1 == pass_count;
+        for_parts([&](int p) {
+            const auto [begin, end] = range(p);
+            if (last)
+                radix_detail::scatter(records.data(), begin, end, digit, at[std::size_t(p)].data(), sink);
+            else
+                radix_detail::scatter(records.data(), begin, end, digit, at[std::size_t(p)].data(), to_scratch);
         });
-        records.swap(scratch);
+        if (!last) records.swap(scratch);
     }
+}
+
+// Sorts `records` by the low `key_bits` bits of key(record) (a std::uint64_t); equal keys keep their
+// order. `scratch` is resized to the records' size (reused across calls).
+template <class Records, class KeyOf>
+void radix_sort(Records& records, Records& scratch, int key_bits, KeyOf key, int parts) {
+    using Record = typename Records::value_type;
+    if (records.size() < 2) return;
+    scratch.resize(records.size());
+    radix_sort_to(records, scratch, key_bits, key, parts, [&](std::size_t to, const Record& r) { scratch[to] = r; });
+    records.swap(scratch);
 }
 
 }  // namespace beamtrace

@@ -1,5 +1,6 @@
 // Radix sort of the stream tracer's keys (radix_sort.hpp): (key, index) in one 64-bit word, sorted
-// by the key by the library's radix sort (common/radix_sort.hpp).
+// by the key by the library's radix sort (common/radix_sort.hpp), whose last pass writes the order
+// and the sorted keys.
 #include "stream/radix_sort.hpp"
 
 #include "common/radix_sort.hpp"
@@ -9,14 +10,15 @@ namespace beamtrace::stream {
 void sort_by_key(std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
                  std::span<std::uint32_t> sorted_keys, int parts, SortBuffers& buffers) {
     const std::size_t n = keys.size();
-    std::vector<std::uint64_t>& records = buffers.records;
+    auto& records = buffers.records;
     records.resize(n);
     for (std::size_t i = 0; i < n; ++i) records[i] = (std::uint64_t(keys[i]) << 32) | i;
-    radix_sort(records, buffers.scratch, 32, [](std::uint64_t r) { return r >> 32; }, parts);
-    for (std::size_t i = 0; i < n; ++i) {
-        order[i] = std::uint32_t(records[i]);
-        sorted_keys[i] = std::uint32_t(records[i] >> 32);
-    }
+    // The last pass writes the order and the sorted keys themselves (no copy of the records).
+    radix_sort_to(records, buffers.scratch, 32, [](std::uint64_t r) { return r >> 32; }, parts,
+                  [&](std::size_t to, std::uint64_t r) {
+                      order[to] = std::uint32_t(r);
+                      sorted_keys[to] = std::uint32_t(r >> 32);
+                  });
 }
 
 void gather_in_order(std::span<const Ray> rays, std::span<const std::uint32_t> order, std::size_t begin,
