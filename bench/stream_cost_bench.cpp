@@ -6,9 +6,9 @@
 //   <scene>/shared_points   sampling the stream for shared points (per call)
 //   <scene>/keys            one key per ray, the widest instruction set's kernel (per ray)
 //   <scene>/keys_scalar     the same by the scalar reference (per ray)
-//   <scene>/radix_sort      the sort of the keys (per ray)
+//   <scene>/radix_sort      the sort of the keys, with the origins' hashes (per ray)
 //   <scene>/gather          the rays copied into sorted order (per ray)
-//   <scene>/cut_groups      the gathered rays cut into groups, each origin's rays put together (per ray)
+//   <scene>/cut_groups      the sorted keys cut into groups (per ray)
 //   <scene>/origin_group    one group of rays with one origin by the masked group traversal (per group)
 //   <scene>/single_sorted   the same rays one by one (single-ray traversal) in sorted order (per ray)
 //   <scene>/single_shuffled the same rays one by one in the shuffled order (per ray)
@@ -54,10 +54,7 @@ struct StreamCase {
     std::vector<Ray> rays;  // shuffled
     stream::SharedPoints shared;
     std::vector<std::uint32_t> keys, order, sorted_keys;
-    std::vector<Ray> sorted;
-    // The sort's order and the rays gathered in it, before cut_groups put each origin's rays together.
-    std::vector<std::uint32_t> sort_order;
-    std::vector<Ray> gathered;
+    std::vector<Ray> sorted;  // the rays in the sort's order (for the terms that trace them)
     std::vector<stream::RayGroup> groups;
     stream::SortBuffers sort_buffers;
 };
@@ -84,11 +81,9 @@ std::unique_ptr<StreamCase> build_case(const std::string& name) {
     c->sorted_keys.resize(n);
     c->sorted.resize(n);
     stream::make_keys(c->rays, kd.bounds, c->shared, c->keys);
-    stream::sort_by_key(c->keys, c->order, c->sorted_keys, 1, c->sort_buffers);
+    stream::sort_by_key(c->keys, c->rays, c->order, c->sorted_keys, 1, c->sort_buffers);
     stream::gather_in_order(c->rays, c->order, 0, n, c->sorted);
-    c->sort_order = c->order;
-    c->gathered = c->sorted;
-    stream::cut_groups(c->sorted, c->sorted_keys, c->order, 4, c->groups);
+    stream::cut_groups(c->sorted_keys, 4, c->groups);
     return c;
 }
 
@@ -134,7 +129,7 @@ void bm_radix_sort(benchmark::State& state, const std::string& name) {
     StreamCase& c = stream_case(name);
     if (!usable(state, c)) return;
     for (auto _ : state) {
-        stream::sort_by_key(c.keys, c.order, c.sorted_keys, 1, c.sort_buffers);
+        stream::sort_by_key(c.keys, c.rays, c.order, c.sorted_keys, 1, c.sort_buffers);
         benchmark::DoNotOptimize(c.order.data());
     }
     per_ray(state, c.rays.size());
@@ -154,11 +149,7 @@ void bm_cut_groups(benchmark::State& state, const std::string& name) {
     StreamCase& c = stream_case(name);
     if (!usable(state, c)) return;
     for (auto _ : state) {
-        state.PauseTiming();  // the gathered order again: cut_groups regroups it in place
-        std::copy(c.gathered.begin(), c.gathered.end(), c.sorted.begin());
-        std::copy(c.sort_order.begin(), c.sort_order.end(), c.order.begin());
-        state.ResumeTiming();
-        stream::cut_groups(c.sorted, c.sorted_keys, c.order, 4, c.groups);
+        stream::cut_groups(c.sorted_keys, 4, c.groups);
         benchmark::DoNotOptimize(c.groups.data());
     }
     per_ray(state, c.rays.size());
@@ -169,14 +160,22 @@ void bm_origin_group(benchmark::State& state, const std::string& name) {
     StreamCase& c = stream_case(name);
     if (!usable(state, c)) return;
     const KdTree::Impl& kd = detail::Access::impl(*c.tree);
+    // The runs of one origin (the stream tracer's origin groups: at least 4 rays, at most 16).
     std::vector<Packet16> packets;
-    for (const stream::RayGroup& g : c.groups) {
-        if (g.kind != stream::RayGroup::Kind::origin) continue;
-        Packet16 p;
-        for (std::uint32_t i = 0; i < 16; ++i)
-            p.set_ray(int(i), i < g.count ? c.sorted[g.begin + i] : Ray{{0, 0, 0}, 0, {0, 0, 1}, 0});
-        p.active = g.count >= 16 ? 0xFFFFu : (1u << g.count) - 1u;
-        packets.push_back(p);
+    for (std::size_t k = 0; k < c.sorted.size();) {
+        std::size_t e = k + 1;
+        while (e < c.sorted.size() && e - k < 16 && c.sorted_keys[e] == c.sorted_keys[k] &&
+               c.sorted[e].org.x == c.sorted[k].org.x && c.sorted[e].org.y == c.sorted[k].org.y &&
+               c.sorted[e].org.z == c.sorted[k].org.z)
+            ++e;
+        if (e - k >= 4 && (c.sorted_keys[k] & stream::kPencilBit) == 0) {
+            Packet16 p;
+            for (std::size_t i = 0; i < 16; ++i)
+                p.set_ray(int(i), k + i < e ? c.sorted[k + i] : Ray{{0, 0, 0}, 0, {0, 0, 1}, 0});
+            p.active = e - k >= 16 ? 0xFFFFu : (1u << (e - k)) - 1u;
+            packets.push_back(p);
+        }
+        k = e;
     }
     if (packets.empty()) {
         state.SkipWithError("no origin groups");

@@ -1,16 +1,13 @@
 #pragma once
 // The library's one radix sort: stable, least significant digit first, 11-bit digits. One pass
 // counts every digit's histogram (and so finds the digits every record shares: their passes are
-// skipped); the
-// last scatter can hand its records to the caller (`radix_sort_to`), who may write them as it needs
-// them instead of copying them once more. Histograms and scatters by part on `parts` threads of the caller's TBB arena. The stream
+// skipped). Histograms and scatters by part on `parts` threads of the caller's TBB arena. The stream
 // tracer sorts (key, index) words with it, CRSH (key, ray) pairs, the kd build split events.
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
-#include <type_traits>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -29,31 +26,19 @@ namespace radix_detail {
 inline constexpr int kDigitBits = 11, kBuckets = 1 << kDigitBits, kMaxDigits = (64 + kDigitBits - 1) / kDigitBits;
 using Histogram = std::array<std::uint32_t, kBuckets>;
 
-// Records [begin, end) of `in` to their buckets: record i goes to position at[digit(in[i])]++, handed
-// to `sink(position, record)`.
-template <class Record, class Digit, class Sink>
-void scatter(const Record* in, std::size_t begin, std::size_t end, Digit digit, std::size_t* at, Sink& sink) {
-    for (std::size_t i = begin; i < end; ++i) sink(at[digit(in[i])]++, in[i]);
-}
-
 }  // namespace radix_detail
 
 // Sorts `records` by the low `key_bits` bits of key(record) (a std::uint64_t); equal keys keep their
-// order. The sorted sequence is handed to `sink(position, record)`, once per record (from several
-// threads when parts > 1); `records` and `scratch` are left in an unspecified order. `scratch` is resized to the records'
-// size (reused across calls). Record must be trivially copyable.
-template <class Records, class KeyOf, class Sink>
-void radix_sort_to(Records& records, Records& scratch, int key_bits, KeyOf key, int parts, Sink sink) {
+// order. `scratch` is resized to the records' size (reused across calls).
+template <class Record, class KeyOf>
+void radix_sort(std::vector<Record>& records, std::vector<Record>& scratch, int key_bits, KeyOf key, int parts) {
     using namespace radix_detail;
-    using Record = typename Records::value_type;
-    static_assert(std::is_trivially_copyable_v<Record>);
     const std::size_t n = records.size();
-    if (n < 2 || n > std::size_t(0xFFFFFFFFu)) {
-        if (n > 1) std::stable_sort(records.begin(), records.end(), [&](const Record& a, const Record& b) {
-                const std::uint64_t mask = key_bits >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << key_bits) - 1;
-                return (key(a) & mask) < (key(b) & mask);
-            });
-        for (std::size_t i = 0; i < n; ++i) sink(i, records[i]);
+    if (n < 2) return;
+    if (n > std::size_t(0xFFFFFFFFu)) {  // beyond the histograms' 32-bit counts
+        const std::uint64_t mask = key_bits >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << key_bits) - 1;
+        std::stable_sort(records.begin(), records.end(),
+                         [&](const Record& a, const Record& b) { return (key(a) & mask) < (key(b) & mask); });
         return;
     }
     parts = std::max(1, std::min(parts, int(n / 65536) + 1));
@@ -76,29 +61,21 @@ void radix_sort_to(Records& records, Records& scratch, int key_bits, KeyOf key, 
             for (int j = 0; j < digits; ++j) ++c[std::size_t(j)][(k >> (j * kDigitBits)) & (kBuckets - 1)];
         }
     });
-    // A digit whose one bucket holds every record changes nothing: its pass is skipped.
-    int passes[kMaxDigits], pass_count = 0;
+    scratch.resize(n);
+    std::vector<std::array<std::size_t, kBuckets>> at(static_cast<std::size_t>(parts));
+    bool counted = true;  // count[.][j] holds the parts' records as they are now
     for (int j = 0; j < digits; ++j) {
+        // A digit whose one bucket holds every record changes nothing: its pass is skipped.
         bool one_bucket = false;
         for (std::size_t d = 0; d < std::size_t(kBuckets) && !one_bucket; ++d) {
             std::size_t total = 0;
             for (const auto& c : count) total += c[std::size_t(j)][d];
             one_bucket = total == n;
         }
-        if (!one_bucket) passes[pass_count++] = j;
-    }
-    if (pass_count == 0) {
-        for (std::size_t i = 0; i < n; ++i) sink(i, records[i]);
-        return;
-    }
-    scratch.resize(n);
-    const auto to_scratch = [&](std::size_t to, const Record& r) { scratch[to] = r; };
-    std::vector<std::array<std::size_t, kBuckets>> at(static_cast<std::size_t>(parts));
-    for (int q = 0; q < pass_count; ++q) {
-        const int j = passes[q];
+        if (one_bucket) continue;
         const int shift = j * kDigitBits;
         const auto digit = [&](const Record& r) { return std::size_t((key(r) >> shift) & (kBuckets - 1)); };
-        if (q > 0 && parts > 1)  // the parts hold other records now: count them again
+        if (!counted)  // the parts hold other records now: count them again
             for_parts([&](int p) {
                 Histogram& c = count[std::size_t(p)][std::size_t(j)];
                 c.fill(0);
@@ -112,27 +89,14 @@ void radix_sort_to(Records& records, Records& scratch, int key_bits, KeyOf key, 
                 at[p][d] = sum;
                 sum += count[p][std::size_t(j)][d];
             }
-        const bool last = q + 1 == pass_count;
         for_parts([&](int p) {
+            auto& to = at[std::size_t(p)];
             const auto [begin, end] = range(p);
-            if (last)
-                radix_detail::scatter(records.data(), begin, end, digit, at[std::size_t(p)].data(), sink);
-            else
-                radix_detail::scatter(records.data(), begin, end, digit, at[std::size_t(p)].data(), to_scratch);
+            for (std::size_t i = begin; i < end; ++i) scratch[to[digit(records[i])]++] = records[i];
         });
-        if (!last) records.swap(scratch);
+        records.swap(scratch);
+        counted = parts == 1;  // one part: the whole input, whose histograms no pass changes
     }
-}
-
-// Sorts `records` by the low `key_bits` bits of key(record) (a std::uint64_t); equal keys keep their
-// order. `scratch` is resized to the records' size (reused across calls).
-template <class Records, class KeyOf>
-void radix_sort(Records& records, Records& scratch, int key_bits, KeyOf key, int parts) {
-    using Record = typename Records::value_type;
-    if (records.size() < 2) return;
-    scratch.resize(records.size());
-    radix_sort_to(records, scratch, key_bits, key, parts, [&](std::size_t to, const Record& r) { scratch[to] = r; });
-    records.swap(scratch);
 }
 
 }  // namespace beamtrace

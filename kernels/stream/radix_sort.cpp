@@ -1,24 +1,40 @@
-// Radix sort of the stream tracer's keys (radix_sort.hpp): (key, index) in one 64-bit word, sorted
-// by the key by the library's radix sort (common/radix_sort.hpp), whose last pass writes the order
-// and the sorted keys.
+// Radix sort of the stream tracer's keys (radix_sort.hpp): (key, origin hash, index) in one 64-bit
+// word, sorted by key and hash by the library's radix sort (common/radix_sort.hpp).
 #include "stream/radix_sort.hpp"
 
+#include <algorithm>
+
 #include "common/radix_sort.hpp"
+#include "stream/ray_keys.hpp"
 
 namespace beamtrace::stream {
 
-void sort_by_key(std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
+void sort_by_key(std::span<const std::uint32_t> keys, std::span<const Ray> rays, std::span<std::uint32_t> order,
                  std::span<std::uint32_t> sorted_keys, int parts, SortBuffers& buffers) {
     const std::size_t n = keys.size();
+    // Hash bits only when some ray is keyed by its origin's cell (a stream of pencils sorts by key).
+    const bool by_origin = !rays.empty() && std::any_of(keys.begin(), keys.end(), [](std::uint32_t k) {
+        return (k & kPencilBit) == 0;
+    });
+    const int h = by_origin ? hash_bits(n) : 0;
+    const int index_bits = 32 - h;
+    const std::uint64_t index_mask = (std::uint64_t{1} << index_bits) - 1;
     auto& records = buffers.records;
     records.resize(n);
-    for (std::size_t i = 0; i < n; ++i) records[i] = (std::uint64_t(keys[i]) << 32) | i;
-    // The last pass writes the order and the sorted keys themselves (no copy of the records).
-    radix_sort_to(records, buffers.scratch, 32, [](std::uint64_t r) { return r >> 32; }, parts,
-                  [&](std::size_t to, std::uint64_t r) {
-                      order[to] = std::uint32_t(r);
-                      sorted_keys[to] = std::uint32_t(r >> 32);
-                  });
+    if (h == 0)
+        for (std::size_t i = 0; i < n; ++i) records[i] = (std::uint64_t(keys[i]) << 32) | i;
+    else
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::uint64_t hash = (keys[i] & kPencilBit) ? 0 : origin_hash(rays[i]) >> (32 - h);
+            records[i] = (std::uint64_t(keys[i]) << 32) | (hash << index_bits) | i;
+        }
+    radix_sort(records, buffers.scratch, 32 + h, [index_bits](std::uint64_t r) { return r >> index_bits; }, parts);
+    // Unpacked in a pass of its own: a last scatter writing the order and the keys apart would keep
+    // twice the destinations open (measured slower).
+    for (std::size_t k = 0; k < n; ++k) {
+        order[k] = std::uint32_t(records[k] & index_mask);
+        sorted_keys[k] = std::uint32_t(records[k] >> 32);
+    }
 }
 
 void gather_in_order(std::span<const Ray> rays, std::span<const std::uint32_t> order, std::size_t begin,

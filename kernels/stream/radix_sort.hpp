@@ -1,8 +1,12 @@
 #pragma once
-// The sorting step of the stream tracer: 32-bit keys with their indices sorted by the library's
-// radix sort (common/radix_sort.hpp: stable, 11-bit digits, passes whose digit all keys share
-// skipped, on `parts` threads of the caller's TBB arena), in linear time; then the rays gathered
-// into that order.
+// The sorting step of the stream tracer: the rays' 32-bit keys with their indices sorted by the
+// library's radix sort (common/radix_sort.hpp: stable, 11-bit digits, passes whose digit all keys
+// share skipped, on `parts` threads of the caller's TBB arena), in linear time. Rays keyed by their
+// origin's cell are sorted within their cell by a hash of their exact origin too, so that the rays of
+// one origin come out next to each other (but where two origins of a cell share a hash); then the
+// rays gathered into that order.
+#include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -11,14 +15,34 @@
 
 namespace beamtrace::stream {
 
-// The sort's (key, index) words and its scratch, kept by the caller across calls.
+// The sort's (key, origin hash, index) words and its scratch, kept by the caller across calls.
 struct SortBuffers {
     std::vector<std::uint64_t> records, scratch;
 };
 
-// Fills `order` with 0 .. keys.size()-1 sorted by key (equal keys keep their input order) and
-// sorted_keys[k] with keys[order[k]].
-void sort_by_key(std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
+// A hash of a ray's origin, bit for bit (equal origins, equal hashes).
+inline std::uint32_t origin_hash(const Ray& ray) {
+    std::uint32_t h = std::bit_cast<std::uint32_t>(ray.org.x) * 0x9E3779B1u;
+    h ^= std::bit_cast<std::uint32_t>(ray.org.y) * 0x85EBCA77u;
+    h ^= std::bit_cast<std::uint32_t>(ray.org.z) * 0xC2B2AE3Du;
+    h ^= h >> 15;
+    h *= 0x2C1B3C6Du;
+    return h ^ (h >> 12);
+}
+
+// How many of the origin hash's bits a sort of n rays uses: those its 64-bit words have room for
+// beside the 32-bit key and the index, at most kMaxHashBits (four radix passes in all).
+inline constexpr int kMaxHashBits = 12;
+inline int hash_bits(std::size_t n) {
+    const int index_bits = std::max(1, int(std::bit_width(n > 1 ? n - 1 : std::size_t{1})));
+    return std::clamp(32 - index_bits, 0, kMaxHashBits);
+}
+
+// Fills `order` with 0 .. keys.size()-1 sorted by key and, among rays of one origin-cell key (bit 31
+// clear), by the top hash_bits(n) bits of origin_hash(rays[i]); equal keys (and hashes) keep their
+// input order. sorted_keys[k] = keys[order[k]]. `rays` may be empty (no hash: by key alone); else it
+// holds the keys' rays.
+void sort_by_key(std::span<const std::uint32_t> keys, std::span<const Ray> rays, std::span<std::uint32_t> order,
                  std::span<std::uint32_t> sorted_keys, int parts, SortBuffers& buffers);
 
 // out[k] = rays[order[k]] for k in [begin, end): the rays in sorted order. The reads are random

@@ -1,17 +1,19 @@
 #pragma once
-// The grouping step of the stream tracer: the sorted order cut into what is traced together.
+// The grouping step of the stream tracer: the sorted order cut into what is traced together, from
+// the sorted keys alone (no ray is read: the trace finds each cell's runs of one origin as it reads
+// the cell's rays).
 #include <cstdint>
 #include <span>
 #include <vector>
-
-#include "beamtrace/ray.hpp"
 
 namespace beamtrace::stream {
 
 struct RayGroup {
     enum class Kind : std::uint8_t {
         pencil,      // up to 16 rays through one shared point (a packet for interval traversal)
-        origin,      // up to 16 rays with one origin (masked group traversal)
+        cell,        // rays of one origin cell, each origin's rays next to each other (the sort's
+                     // origin hash): traced as groups of one origin where the trace finds enough
+                     // rays with one origin, else one by one
         single,      // rays traced one by one
         no_segment,  // rays that describe no segment: no hit, not occluded
     };
@@ -19,12 +21,15 @@ struct RayGroup {
     Kind kind = Kind::single;
 };
 
-// Cuts the sorted rays (rays[k] with key keys[k]; order[k] its input index) into groups: runs of one shared point (key bit 31 and the point's bits) and runs of one origin (same
-// key, origins equal bit for bit) become groups of at most 16 when they hold at least
-// min_group_rays rays; everything else becomes runs of single rays. Rays of one origin key (one
-// cell) are first put in order of their origins (stable; rays and order alike), so that rays of one
-// origin meet. On `parts` threads of the caller's TBB arena (parts start at changes of key).
-void cut_groups(std::span<Ray> rays, std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
-                int min_group_rays, std::vector<RayGroup>& groups, int parts = 1);
+// A cell's rays are cut into groups of at most this many (work for one task at a time).
+inline constexpr std::uint32_t kMaxCellGroup = 1024;
+
+// Cuts the sorted order (keys[k] the key of its k-th ray) into groups: runs of one shared point (key
+// bit 31 and the point's bits) become pencil groups of at most 16 when they hold at least
+// min_group_rays rays; runs of one origin cell (one key) of at least min_group_rays rays become cell
+// groups (of at most kMaxCellGroup); everything else becomes runs of single rays. On `parts` threads
+// of the caller's TBB arena (parts start at changes of key).
+void cut_groups(std::span<const std::uint32_t> keys, int min_group_rays, std::vector<RayGroup>& groups,
+                int parts = 1);
 
 }  // namespace beamtrace::stream

@@ -2,6 +2,8 @@
 // suits it, the answers written back in input order.
 #include "beamtrace/stream.hpp"
 
+#include <algorithm>
+#include <bit>
 #include <chrono>
 #include <optional>
 #include <string>
@@ -43,7 +45,7 @@ constexpr std::size_t kGroupGrain = 256;
 // traversal; docs/mlrta.md "Packets traced together").
 constexpr std::size_t kPencilBlock = 4;
 
-// The sorted order of a call: keys, order and groups.
+// The sorted order of a call: keys, order, the rays in that order, and groups.
 struct SortedStream {
     std::vector<std::uint32_t> keys, order, sorted_keys;
     std::vector<Ray> rays;  // in sorted order
@@ -77,13 +79,12 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
     run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
         stream::make_keys(rays.subspan(b, e - b), bounds, shared, std::span(out.keys).subspan(b, e - b), isa);
     });
-    in_arena(options.threads,
-             [&] { stream::sort_by_key(out.keys, out.order, out.sorted_keys, options.threads, out.sort_buffers); });
+    in_arena(options.threads, [&] {
+        stream::sort_by_key(out.keys, rays, out.order, out.sorted_keys, options.threads, out.sort_buffers);
+    });
     run_query_parts(rays.size(), options,
                     [&](std::size_t b, std::size_t e) { stream::gather_in_order(rays, out.order, b, e, out.rays); });
-    in_arena(options.threads, [&] {
-        stream::cut_groups(out.rays, out.sorted_keys, out.order, s.min_group_rays, out.groups, options.threads);
-    });
+    in_arena(options.threads, [&] { stream::cut_groups(out.sorted_keys, s.min_group_rays, out.groups, options.threads); });
 }
 
 // The rays of a group as a packet (lanes 0 .. count).
@@ -98,22 +99,37 @@ Packet16 packet_of(const Ray* rays, std::uint32_t count) {
 template <bool kOcclusion, class Out>
 class StreamTrace {
 public:
-    StreamTrace(const KdTree::Impl& kd, const KdExperimental& x, const SortedStream& sorted, Out* out)
+    StreamTrace(const KdTree::Impl& kd, const KdExperimental& x, const SortedStream& sorted, std::uint32_t min_group_rays,
+                Out* out)
         : kd_(kd),
           context_{kd, kd.packet_tables(), x.triangle_culling},
           root_(kdtree::root_start(kd)),
+          rays_(sorted.rays.data()),
           sorted_(sorted),
+          min_group_rays_(min_group_rays),
           out_(out),
           tolerance_(mlrta::reversal_tolerance(kd.bounds)) {}
 
     template <bool kCount>
     void groups(std::size_t begin, std::size_t end, QueryCounters* c) const {
         for (std::size_t g = begin; g < end;) {
-            if (sorted_.groups[g].kind == RayGroup::Kind::pencil) {
-                g = pencils<kCount>(g, end, c);
-                continue;
+            const RayGroup& group = sorted_.groups[g];
+            switch (group.kind) {
+                case RayGroup::Kind::pencil:
+                    g = pencils<kCount>(g, end, c);
+                    continue;
+                case RayGroup::Kind::cell:
+                    cell<kCount>(group, c);
+                    break;
+                case RayGroup::Kind::single:
+                    if constexpr (kCount) c->stream.single_rays += group.count;
+                    singles<kCount>(group.begin, group.begin + group.count, c);
+                    break;
+                case RayGroup::Kind::no_segment:
+                    for (std::uint32_t k = group.begin; k < group.begin + group.count; ++k)
+                        write(sorted_.order[k], Hit{});
+                    break;
             }
-            group<kCount>(sorted_.groups[g], c);
             ++g;
         }
     }
@@ -144,7 +160,7 @@ private:
                 ++c->stream.pencil_packets;
                 c->stream.pencil_rays += g.count;
             }
-            const Packet16 p = packet_of(sorted_.rays.data() + g.begin, g.count);
+            const Packet16 p = packet_of(rays_ + g.begin, g.count);
             if (!kOcclusion || !mlrta::reverse_for_occlusion(p, tolerance_, packets[k])) packets[k] = p;
             traced[k] = &packets[k];
             hits_of[k] = &hits[k];
@@ -158,34 +174,53 @@ private:
         return last;
     }
 
+    // The rays of sorted positions [begin, end) one by one.
     template <bool kCount>
-    void group(const RayGroup& g, QueryCounters* c) const {
-        const std::uint32_t* order = sorted_.order.data() + g.begin;
-        const Ray* rays = sorted_.rays.data() + g.begin;
-        switch (g.kind) {
-            case RayGroup::Kind::no_segment:
-                for (std::uint32_t i = 0; i < g.count; ++i) write(order[i], Hit{});
-                return;
-            case RayGroup::Kind::single:
-                if constexpr (kCount) c->stream.single_rays += g.count;
-                for (std::uint32_t i = 0; i < g.count; ++i)
-                    write(order[i], kdtree::traverse_ray<kOcclusion, kCount>(kd_, rays[i], c));
-                return;
-            case RayGroup::Kind::pencil:  // groups() traces pencils in blocks
-                return;
-            case RayGroup::Kind::origin: {
+    void singles(std::uint32_t begin, std::uint32_t end, QueryCounters* c) const {
+        for (std::uint32_t k = begin; k < end; ++k)
+            write(sorted_.order[k], kdtree::traverse_ray<kOcclusion, kCount>(kd_, rays_[k], c));
+    }
+
+    // A cell's rays, each origin's next to each other (the sort's origin hash; two origins that share
+    // a hash may interleave): runs of one origin, bit for bit, of at least min_group_rays_ rays as
+    // groups of at most 16 (masked group traversal), shorter runs one by one.
+    template <bool kCount>
+    void cell(const RayGroup& g, QueryCounters* c) const {
+        const std::uint32_t* order = sorted_.order.data();
+        const std::uint32_t end = g.begin + g.count;
+        for (std::uint32_t k = g.begin; k < end;) {
+            const Ray& first = rays_[k];
+            std::uint32_t run_end = k + 1;
+            while (run_end < end && same_origin(rays_[run_end], first)) ++run_end;
+            const std::uint32_t count = run_end - k;
+            if (count < min_group_rays_) {
+                if constexpr (kCount) c->stream.single_rays += count;
+                singles<kCount>(k, run_end, c);
+                k = run_end;
+                continue;
+            }
+            // Equal parts of at most 16 (a run of 17 makes 9 + 8, not 16 + 1).
+            const std::uint32_t parts = (count + 15) / 16;
+            for (std::uint32_t p = 0; p < parts; ++p) {
+                const std::uint32_t b = k + count * p / parts, e = k + count * (p + 1) / parts;
                 if constexpr (kCount) {
                     ++c->stream.origin_groups;
-                    c->stream.origin_group_rays += g.count;
+                    c->stream.origin_group_rays += e - b;
                 }
-                const Packet16 p = packet_of(rays, g.count);
+                const Packet16 packet = packet_of(rays_ + b, e - b);
                 PacketHits16 hits;
                 std::uint32_t bits = 0;
-                stream::trace_group<kOcclusion, kCount>(kd_, p, &hits, &bits, c);
-                write_packet(order, g.count, &hits, bits);
-                return;
+                stream::trace_group<kOcclusion, kCount>(kd_, packet, &hits, &bits, c);
+                write_packet(order + b, e - b, &hits, bits);
             }
+            k = run_end;
         }
+    }
+
+    static bool same_origin(const Ray& a, const Ray& b) {
+        return std::bit_cast<std::uint32_t>(a.org.x) == std::bit_cast<std::uint32_t>(b.org.x) &&
+               std::bit_cast<std::uint32_t>(a.org.y) == std::bit_cast<std::uint32_t>(b.org.y) &&
+               std::bit_cast<std::uint32_t>(a.org.z) == std::bit_cast<std::uint32_t>(b.org.z);
     }
 
     void write(std::uint32_t index, const Hit& h) const {
@@ -208,7 +243,9 @@ private:
     const KdTree::Impl& kd_;
     kdtree::PacketTraversalContext context_;
     kdtree::TraversalStart root_;
+    const Ray* rays_;  // in sorted order
     const SortedStream& sorted_;
+    std::uint32_t min_group_rays_;
     Out* out_;
     double tolerance_;
 };
@@ -242,7 +279,7 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, std::span<const R
     } release{use_kept};
     sort_stream(kd.scene.bounds(), s, rays, kOcclusion, options, kd.kernels->isa, sorted);
     const auto sorted_at = std::chrono::steady_clock::now();
-    const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, out);
+    const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, std::uint32_t(s.min_group_rays), out);
     run_query(sorted.groups.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
         if (c)
             trace.template groups<true>(b, e, c);

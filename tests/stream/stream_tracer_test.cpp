@@ -204,3 +204,34 @@ TEST(StreamTracer, EmptyStreamsAndSingleRays) {
         EXPECT_EQ(tracer.occluded(r), tree.occluded(r));
     }
 }
+
+TEST(StreamTracer, ManyOriginsInOneCellAnswerAsTheKdTree) {
+    // 400 origins inside one origin cell, 16 rays each, shuffled: the sort puts each origin's rays
+    // together (some origins share their hash bits and interleave: traced one by one), the answers
+    // are the kd-tree's.
+    const Scene s = test::random_soup(4000, 60);
+    const KdTree tree = KdTree::build(s);
+    const Box b = s.bounds();
+    const Float3 centre = (b.lower + b.upper) * 0.5f, e = b.extent();
+    std::mt19937 random(61);
+    std::uniform_real_distribution<float> u(-0.5f, 0.5f);
+    std::vector<Ray> rays;
+    for (int o = 0; o < 400; ++o) {
+        const Float3 origin = centre + Float3{e.x * 1e-5f * u(random), e.y * 1e-5f * u(random), e.z * 1e-5f * u(random)};
+        for (int i = 0; i < 16; ++i) {
+            const Float3 d{u(random), u(random), u(random)};
+            rays.push_back(Ray{origin, 0.0f, d, kInfinity});
+        }
+    }
+    std::shuffle(rays.begin(), rays.end(), random);
+    std::vector<Hit> want(rays.size());
+    std::vector<std::uint8_t> want_occluded(rays.size());
+    tree.intersect(rays, want);
+    tree.occluded(rays, want_occluded);
+    QueryCounters counters;
+    const Answers got = answers(StreamTracer(tree), rays, QueryOptions{1, &counters});
+    expect_same_hits(s, rays, got.hits, want, "one cell");
+    EXPECT_EQ(got.occluded, want_occluded);
+    EXPECT_GT(counters.stream.origin_group_rays, 2 * rays.size() * 3 / 4);
+    EXPECT_EQ(counters.stream.origin_group_rays + counters.stream.single_rays, 2 * rays.size());
+}
