@@ -6,7 +6,7 @@
 //   <scene>/shared_points   sampling the stream for shared points (per call)
 //   <scene>/keys            one key per ray, the widest instruction set's kernel (per ray)
 //   <scene>/keys_scalar     the same by the scalar reference (per ray)
-//   <scene>/radix_sort      the sort of the keys, with the origins' hashes (per ray)
+//   <scene>/radix_sort      the sort of the keys and the origins' hashes (per ray)
 //   <scene>/gather          the rays copied into sorted order (per ray)
 //   <scene>/cut_groups      the sorted keys cut into groups (per ray)
 //   <scene>/origin_group    one group of rays with one origin by the masked group traversal (per group)
@@ -53,7 +53,7 @@ struct StreamCase {
     std::optional<KdTree> tree;
     std::vector<Ray> rays;  // shuffled
     stream::SharedPoints shared;
-    std::vector<std::uint32_t> keys, order, sorted_keys;
+    std::vector<std::uint32_t> keys, hashes, order, sorted_keys;
     std::vector<Ray> sorted;  // the rays in the sort's order (for the terms that trace them)
     std::vector<stream::RayGroup> groups;
     stream::SortBuffers sort_buffers;
@@ -81,7 +81,9 @@ std::unique_ptr<StreamCase> build_case(const std::string& name) {
     c->sorted_keys.resize(n);
     c->sorted.resize(n);
     stream::make_keys(c->rays, kd.bounds, c->shared, c->keys);
-    stream::sort_by_key(c->keys, c->rays, c->order, c->sorted_keys, 1, c->sort_buffers);
+    c->hashes.resize(n);
+    for (std::size_t i = 0; i < n; ++i) c->hashes[i] = stream::origin_hash(c->rays[i]);
+    stream::sort_by_key(c->keys, c->hashes, c->order, c->sorted_keys, 1, c->sort_buffers);
     stream::gather_in_order(c->rays, c->order, 0, n, c->sorted);
     stream::cut_groups(c->sorted_keys, 4, c->groups);
     return c;
@@ -129,7 +131,7 @@ void bm_radix_sort(benchmark::State& state, const std::string& name) {
     StreamCase& c = stream_case(name);
     if (!usable(state, c)) return;
     for (auto _ : state) {
-        stream::sort_by_key(c.keys, c.rays, c.order, c.sorted_keys, 1, c.sort_buffers);
+        stream::sort_by_key(c.keys, c.hashes, c.order, c.sorted_keys, 1, c.sort_buffers);
         benchmark::DoNotOptimize(c.order.data());
     }
     per_ray(state, c.rays.size());

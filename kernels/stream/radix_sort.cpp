@@ -9,11 +9,11 @@
 
 namespace beamtrace::stream {
 
-void sort_by_key(std::span<const std::uint32_t> keys, std::span<const Ray> rays, std::span<std::uint32_t> order,
-                 std::span<std::uint32_t> sorted_keys, int parts, SortBuffers& buffers) {
+void sort_by_key(std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
+                 std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, int parts, SortBuffers& buffers) {
     const std::size_t n = keys.size();
     // Hash bits only when some ray is keyed by its origin's cell (a stream of pencils sorts by key).
-    const bool by_origin = !rays.empty() && std::any_of(keys.begin(), keys.end(), [](std::uint32_t k) {
+    const bool by_origin = !hashes.empty() && std::any_of(keys.begin(), keys.end(), [](std::uint32_t k) {
         return (k & kPencilBit) == 0;
     });
     const int h = by_origin ? hash_bits(n) : 0;
@@ -25,7 +25,7 @@ void sort_by_key(std::span<const std::uint32_t> keys, std::span<const Ray> rays,
         for (std::size_t i = 0; i < n; ++i) records[i] = (std::uint64_t(keys[i]) << 32) | i;
     else
         for (std::size_t i = 0; i < n; ++i) {
-            const std::uint64_t hash = (keys[i] & kPencilBit) ? 0 : origin_hash(rays[i]) >> (32 - h);
+            const std::uint64_t hash = (keys[i] & kPencilBit) ? 0 : hashes[i] >> (32 - h);
             records[i] = (std::uint64_t(keys[i]) << 32) | (hash << index_bits) | i;
         }
     radix_sort(records, buffers.scratch, 32 + h, [index_bits](std::uint64_t r) { return r >> index_bits; }, parts);

@@ -39,11 +39,11 @@ inline int hash_bits(std::size_t n) {
 }
 
 // Fills `order` with 0 .. keys.size()-1 sorted by key and, among rays of one origin-cell key (bit 31
-// clear), by the top hash_bits(n) bits of origin_hash(rays[i]); equal keys (and hashes) keep their
-// input order. sorted_keys[k] = keys[order[k]]. `rays` may be empty (no hash: by key alone); else it
-// holds the keys' rays.
-void sort_by_key(std::span<const std::uint32_t> keys, std::span<const Ray> rays, std::span<std::uint32_t> order,
-                 std::span<std::uint32_t> sorted_keys, int parts, SortBuffers& buffers);
+// clear), by the top hash_bits(n) bits of hashes[i] (origin_hash of the key's ray); equal keys (and
+// hashes) keep their input order. sorted_keys[k] = keys[order[k]]. `hashes` may be empty (by key
+// alone).
+void sort_by_key(std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
+                 std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, int parts, SortBuffers& buffers);
 
 // out[k] = rays[order[k]] for k in [begin, end): the rays in sorted order. The reads are random
 // over the whole stream, so each is asked for `kGatherAhead` rays before it is copied (their misses

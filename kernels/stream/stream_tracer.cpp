@@ -47,7 +47,7 @@ constexpr std::size_t kPencilBlock = 4;
 
 // The sorted order of a call: keys, order, the rays in that order, and groups.
 struct SortedStream {
-    std::vector<std::uint32_t> keys, order, sorted_keys;
+    std::vector<std::uint32_t> keys, hashes, order, sorted_keys;
     std::vector<Ray> rays;  // in sorted order
     stream::SortBuffers sort_buffers;
     std::vector<RayGroup> groups;
@@ -73,14 +73,23 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
                                                              StreamSettings::kMaxSharedPoints);
     if (!occlusion) std::erase_if(shared.points, [](const stream::SharedPoint& p) { return p.ends; });
     out.keys.resize(rays.size());
+    out.hashes.resize(rays.size());
     out.order.resize(rays.size());
     out.sorted_keys.resize(rays.size());
     out.rays.resize(rays.size());
+    // Keys, then the origins' hashes of the rays keyed by cell, a chunk at a time (its rays still in
+    // cache).
+    constexpr std::size_t kChunk = 4096;
     run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
-        stream::make_keys(rays.subspan(b, e - b), bounds, shared, std::span(out.keys).subspan(b, e - b), isa);
+        for (std::size_t c = b; c < e; c += kChunk) {
+            const std::size_t ce = std::min(e, c + kChunk);
+            stream::make_keys(rays.subspan(c, ce - c), bounds, shared, std::span(out.keys).subspan(c, ce - c), isa);
+            for (std::size_t i = c; i < ce; ++i)
+                out.hashes[i] = (out.keys[i] & stream::kPencilBit) ? 0 : stream::origin_hash(rays[i]);
+        }
     });
     in_arena(options.threads, [&] {
-        stream::sort_by_key(out.keys, rays, out.order, out.sorted_keys, options.threads, out.sort_buffers);
+        stream::sort_by_key(out.keys, out.hashes, out.order, out.sorted_keys, options.threads, out.sort_buffers);
     });
     run_query_parts(rays.size(), options,
                     [&](std::size_t b, std::size_t e) { stream::gather_in_order(rays, out.order, b, e, out.rays); });
