@@ -212,26 +212,28 @@ void bm_mlrta_4x4_mts32_packet(benchmark::State& state, const std::string& name)
 
 // A packet's set-up as traversal does it from the root (lanes, group ranges, then the cut to the
 // cell, the farthest distance, the frustum, the watertight packet and the box rays), with the
-// functions traversal calls.
+// kernels traversal calls (the tree's instruction set; BEAMTRACE_ISA chooses another).
 void bm_packet_setup(benchmark::State& state, const std::string& name) {
     Case& c = scene_case(name);
     if (!usable(state, c)) return;
     const KdTree::Impl& kd = detail::Access::impl(*c.tree);
     const float pad = kd.packet_tables().pad;
+    const kdtree::PacketSetupKernels& setup = kd.packet_tables().kernels->setup;
     WatertightPacket16 wp;
     kdtree::LaneBoxRays box_rays;
     kdtree::OneOriginFrustum f;
+    kdtree::PacketLanes lanes;
     for (auto _ : state)
         for (const Packet16& p : c.packets) {
-            const kdtree::PacketLanes lanes = kdtree::packet_lanes(p);
+            setup.lanes(p, lanes);
             const std::uint32_t mask = first_octant(lanes);
             if (mask == 0) continue;
-            benchmark::DoNotOptimize(kdtree::group_ranges(p, lanes, mask));
-            const kdtree::CellEntry e = kdtree::enter_cell(p, mask, lanes.speed, kd.bounds, pad);
-            const float far = kdtree::farthest_distance(p.tfar, lanes.speed, e.lanes);
-            f = kdtree::make_one_origin_frustum(p, e.lanes);
-            make_watertight_packet(p, wp);
-            kdtree::make_lane_box_rays(p, pad, box_rays);
+            benchmark::DoNotOptimize(setup.group_ranges(p, lanes, mask));
+            const kdtree::CellEntry e = setup.enter_cell(p, mask, lanes.speed, kd.bounds, pad);
+            const float far = setup.farthest_distance(p.tfar, lanes.speed, e.lanes);
+            f = setup.frustum(p, e.lanes);
+            setup.watertight(p, wp);
+            setup.box_rays(p, pad, box_rays);
             benchmark::DoNotOptimize(e);
             benchmark::DoNotOptimize(far);
             benchmark::DoNotOptimize(f);

@@ -5,9 +5,11 @@
 #include <cstdint>
 
 #include "common/triangle_kernels_impl.hpp"
+#include "common/watertight_packet_impl.hpp"
 #include "kdtree/packet/lane_box_test_impl.hpp"
 #include "kdtree/packet/one_origin_frustum_impl.hpp"
 #include "kdtree/packet/packet_kernels.hpp"
+#include "kdtree/packet/packet_lanes_impl.hpp"
 #include "simd/lane_bits.hpp"
 #include "vlf/stream/packet_lookup_impl.hpp"
 #include "vlf/vlf_kernels.hpp"
@@ -35,8 +37,17 @@ struct UnitKernels {
     static void lookup_packet(const vlf::LookupTables& t, const Packet16& p, vlf::PacketLookup& out, bool first_tiles) {
         vlf::lookup_packet_simd<Arch>(t, p, out, first_tiles);
     }
+    // A packet's set-up, W lanes a step.
+    static constexpr kdtree::PacketSetupKernels packet_setup() {
+        return {kdtree::simd_impl::packet_lanes<Arch>,     kdtree::simd_impl::group_ranges<Arch>,
+                kdtree::simd_impl::enter_cell<Arch>,       kdtree::simd_impl::farthest_distance<Arch>,
+                kdtree::simd_impl::make_one_origin_frustum<Arch>, beamtrace::simd_impl::make_watertight_packet<Arch>,
+                kdtree::simd_impl::make_lane_box_rays<Arch>};
+    }
     // Every ISA's table of packet traversal kernels has its own forms.
-    static constexpr kdtree::PacketKernels packet_kernels(Isa isa) { return {isa, frustum_cull, lane_box}; }
+    static constexpr kdtree::PacketKernels packet_kernels(Isa isa) {
+        return {isa, frustum_cull, lane_box, packet_setup()};
+    }
 };
 
 }  // namespace beamtrace::simd

@@ -20,8 +20,10 @@ inline std::uint32_t bits_of(const Mask& m) { return std::uint32_t(_mm_movemask_
 
 // std::min and std::max lane by lane: (y < x) ? y : x and (x < y) ? y : x, so that NaN operands and
 // signed zeros come out as the scalar code's (the SIMD forms of scalar references stay bit for bit).
-inline Floats min_as_std(const Floats& x, const Floats& y) { return xsimd::select(y < x, y, x); }
-inline Floats max_as_std(const Floats& x, const Floats& y) { return xsimd::select(x < y, y, x); }
+// MINPS a, b is (a < b) ? a : b and MAXPS a, b is (a > b) ? a : b, NaNs and signed zeros included,
+// so with the operands swapped each is one instruction (a compare and a blend before).
+inline Floats min_as_std(const Floats& x, const Floats& y) { return _mm_min_ps(y, x); }
+inline Floats max_as_std(const Floats& x, const Floats& y) { return _mm_max_ps(y, x); }
 
 // Horizontal minimum / maximum of the four lanes, in registers: min(min(a0, a1), min(a2, a3)) with
 // std::min's rule for each pair, so the result is that scalar fold's, bit for bit.

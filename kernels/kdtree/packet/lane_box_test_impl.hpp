@@ -1,6 +1,7 @@
 #pragma once
-// LaneBoxRays::meets written once over xsimd batches, W lanes per step. Included only by the per-ISA
-// units.
+// LaneBoxRays::meets written once over xsimd batches, W lanes per step, and the set-up of the
+// LaneBoxRays (make_lane_box_rays: copies and reciprocals, each the same division). Included only by
+// the per-ISA units.
 #include <xsimd/xsimd.hpp>
 
 #include "simd/lane_bits.hpp"
@@ -34,6 +35,21 @@ std::uint32_t lanes_meeting(const LaneBoxRays& s, const float* tfar, std::uint32
         out |= beamtrace::simd::lane_bits<Arch>(meets) << base;
     }
     return out & lanes;
+}
+
+template <class Arch>
+void make_lane_box_rays(const Packet16& packet, float pad, LaneBoxRays& s) {
+    using B = xsimd::batch<float, Arch>;
+    const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
+    const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
+    for (int base = 0; base < 16; base += int(B::size)) {
+        for (int k = 0; k < 3; ++k) {
+            B::load_unaligned(org[k] + base).store_aligned(s.org[k] + base);
+            (B(1.0f) / B::load_unaligned(dir[k] + base)).store_aligned(s.inv[k] + base);
+        }
+        B::load_unaligned(packet.tnear + base).store_aligned(s.tnear + base);
+    }
+    s.pad = pad;
 }
 
 }  // namespace beamtrace::kdtree::simd_impl

@@ -17,6 +17,32 @@ std::uint32_t frustum_misses(const OneOriginFrustum& f, const CornerRows& rows, 
     return bits;
 }
 
+void set_frustum_axes(OneOriginFrustum& f, const Packet16& packet, int first) {
+    const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
+    const float a0 = std::fabs(dir[0][first]), a1 = std::fabs(dir[1][first]), a2 = std::fabs(dir[2][first]);
+    f.m = a0 >= a1 ? (a0 >= a2 ? 0 : 2) : (a1 >= a2 ? 1 : 2);
+    f.j0 = f.m == 0 ? 1 : 0;
+    f.j1 = f.m == 2 ? 1 : 2;
+    f.sm = std::signbit(dir[f.m][first]) ? -1.0f : 1.0f;
+    f.origin = Float3{packet.org_x[first], packet.org_y[first], packet.org_z[first]};
+}
+
+void finish_frustum(OneOriginFrustum& f, Interval q0, Interval q1, float reach) {
+    // Slopes of rays and corners both carry rounding: widen generously (relative and absolute). In
+    // locals, then stored: reading f.slope back as a whole after storing its parts stalled on the
+    // stores (a third of this function's time).
+    auto widened = [](Interval s) {
+        const float spread = (s.hi - s.lo) + std::fabs(s.lo) + std::fabs(s.hi);
+        return Interval{s.lo - spread * 1e-4f - 1e-6f, s.hi + spread * 1e-4f + 1e-6f};
+    };
+    const Interval main = widened({f.sm, f.sm}), s0 = widened(q0), s1 = widened(q1);  // dir_m / |dir_m| on m
+    f.slope[f.m] = main;
+    f.slope[f.j0] = s0;
+    f.slope[f.j1] = s1;
+    f.reach = std::max(0.0f, reach) * (1.0f + 1.0f / 65536.0f);  // the product's rounding
+    f.valid = std::isfinite(s0.lo) && std::isfinite(s0.hi) && std::isfinite(s1.lo) && std::isfinite(s1.hi);
+}
+
 OneOriginFrustum make_one_origin_frustum(const Packet16& packet, std::uint32_t mask) {
     // Lane by lane arithmetic four lanes at a time (SSE), ranges over the group's lanes.
     using B = xsimd::batch<float, xsimd::sse4_2>;
@@ -34,12 +60,7 @@ OneOriginFrustum make_one_origin_frustum(const Packet16& packet, std::uint32_t m
         same |= std::uint32_t(_mm_movemask_ps(eq)) << base;
     }
     if ((same & mask) != mask) return f;  // several origins: no frustum
-    const float a0 = std::fabs(dir[0][first]), a1 = std::fabs(dir[1][first]), a2 = std::fabs(dir[2][first]);
-    f.m = a0 >= a1 ? (a0 >= a2 ? 0 : 2) : (a1 >= a2 ? 1 : 2);
-    f.j0 = f.m == 0 ? 1 : 0;
-    f.j1 = f.m == 2 ? 1 : 2;
-    f.sm = std::signbit(dir[f.m][first]) ? -1.0f : 1.0f;
-    f.origin = Float3{org[0][first], org[1][first], org[2][first]};
+    set_frustum_axes(f, packet, first);
     alignas(64) float q[2][16], reach[16];
     const int js[2] = {f.j0, f.j1};
     for (int base = 0; base < 16; base += W) {
@@ -47,16 +68,7 @@ OneOriginFrustum make_one_origin_frustum(const Packet16& packet, std::uint32_t m
         for (int a = 0; a < 2; ++a) (B::load_unaligned(dir[js[a]] + base) / dm).store_aligned(q[a] + base);
         (B::load_unaligned(packet.tfar + base) * dm).store_aligned(reach + base);
     }
-    for (int j = 0; j < 3; ++j) f.slope[j] = {f.sm, f.sm};  // dir_m / |dir_m|
-    for (int a = 0; a < 2; ++a) f.slope[js[a]] = lane_range(q[a], mask);
-    // Slopes of rays and corners both carry rounding: widen generously (relative and absolute).
-    for (int j = 0; j < 3; ++j) {
-        const float spread = (f.slope[j].hi - f.slope[j].lo) + std::fabs(f.slope[j].lo) + std::fabs(f.slope[j].hi);
-        f.slope[j] = {f.slope[j].lo - spread * 1e-4f - 1e-6f, f.slope[j].hi + spread * 1e-4f + 1e-6f};
-    }
-    f.reach = std::max(0.0f, lane_range(reach, mask).hi) * (1.0f + 1.0f / 65536.0f);  // the product's rounding
-    f.valid = std::isfinite(f.slope[f.j0].lo) && std::isfinite(f.slope[f.j0].hi) && std::isfinite(f.slope[f.j1].lo) &&
-              std::isfinite(f.slope[f.j1].hi);
+    finish_frustum(f, lane_range(q[0], mask), lane_range(q[1], mask), lane_range(reach, mask).hi);
     return f;
 }
 

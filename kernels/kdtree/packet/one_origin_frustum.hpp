@@ -71,8 +71,15 @@ struct OneOriginFrustum {
 };
 
 // The frustum of the lanes of `mask`, which must all point into one sign octant with no zero
-// component; `valid` is false (nothing culled) unless they share one origin.
+// component; `valid` is false (nothing culled) unless they share one origin. Four lanes at a time
+// (SSE): the reference of the kernels' set-up (packet_setup_kernels.hpp).
 OneOriginFrustum make_one_origin_frustum(const Packet16& packet, std::uint32_t mask);
+
+// The scalar parts of make_one_origin_frustum, which the SIMD kernels share: the main axis, the other
+// two, the sign and the origin from lane `first`; then the slopes from the ranges of dir_j0 / |dir_m|
+// and dir_j1 / |dir_m| over the lanes, widened, the reach from the largest tfar |dir_m|, and `valid`.
+void set_frustum_axes(OneOriginFrustum& f, const Packet16& packet, int first);
+void finish_frustum(OneOriginFrustum& f, Interval q0, Interval q1, float reach);
 
 // The corners of the tree's leaf triangles as nine rows (row c = corner c / 3, axis c % 3), one
 // float per leaf triangle in the leaves' order: coordinate c of leaf triangle r is

@@ -1,12 +1,14 @@
 #pragma once
 // OneOriginFrustum::misses written once over xsimd batches, W triangles per step, their corners
-// loaded from the tree's corner rows (one plain load per coordinate). Included only by the per-ISA
-// units.
+// loaded from the tree's corner rows (one plain load per coordinate); and make_one_origin_frustum, W
+// lanes per step, each lane's operations the SSE reference's, the ranges folded in its order
+// (simd/lane_folds.hpp): the same frustum, bit for bit. Included only by the per-ISA units.
 #include <cstddef>
 
 #include <xsimd/xsimd.hpp>
 
 #include "simd/lane_bits.hpp"
+#include "simd/lane_folds.hpp"
 #include "kdtree/packet/one_origin_frustum.hpp"
 
 namespace beamtrace::kdtree::simd_impl {
@@ -55,6 +57,45 @@ std::uint32_t frustum_misses(const OneOriginFrustum& f, const CornerRows& rows, 
         result |= (beamtrace::simd::lane_bits<Arch>(miss) & ((1u << live) - 1u)) << base;
     }
     return result;
+}
+
+// make_one_origin_frustum.
+template <class Arch>
+OneOriginFrustum make_one_origin_frustum(const Packet16& packet, std::uint32_t mask) {
+    using B = xsimd::batch<float, Arch>;
+    constexpr int W = int(B::size);
+    constexpr std::uint32_t kRegister = (1u << W) - 1u;
+    OneOriginFrustum f;
+    if (mask == 0) return f;
+    const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
+    const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
+    const int first = __builtin_ctz(mask);
+    std::uint32_t same = 0;
+    for (int base = 0; base < 16; base += W) {
+        auto eq = B::load_unaligned(org[0] + base) == B(org[0][first]);
+        eq = eq & (B::load_unaligned(org[1] + base) == B(org[1][first]));
+        eq = eq & (B::load_unaligned(org[2] + base) == B(org[2][first]));
+        same |= beamtrace::simd::lane_bits<Arch>(eq) << base;
+    }
+    if ((same & mask) != mask) return f;  // several origins: no frustum
+    set_frustum_axes(f, packet, first);
+    beamtrace::simd::MinFold q_lo[2];
+    beamtrace::simd::MaxFold q_hi[2], reach;
+    const int js[2] = {f.j0, f.j1};
+    for (int base = 0; base < 16; base += W) {
+        const std::uint32_t bits = (mask >> base) & kRegister;
+        if (bits == 0) continue;
+        const auto on = beamtrace::simd::lanes_on<Arch>(bits);
+        const B dm = xsimd::abs(B::load_unaligned(dir[f.m] + base));
+        for (int a = 0; a < 2; ++a) {
+            const B q = B::load_unaligned(dir[js[a]] + base) / dm;
+            q_lo[a].add(q, on);
+            q_hi[a].add(q, on);
+        }
+        reach.add(B::load_unaligned(packet.tfar + base) * dm, on);
+    }
+    finish_frustum(f, {q_lo[0].result(), q_hi[0].result()}, {q_lo[1].result(), q_hi[1].result()}, reach.result());
+    return f;
 }
 
 }  // namespace beamtrace::kdtree::simd_impl

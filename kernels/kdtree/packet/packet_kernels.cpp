@@ -5,7 +5,8 @@ namespace beamtrace {
 
 template <>
 const kdtree::PacketKernels& simd::table<kdtree::PacketKernels, Isa::scalar>() {
-    static constexpr kdtree::PacketKernels kScalar{Isa::scalar, kdtree::frustum_misses, kdtree::lanes_meeting_box};
+    static constexpr kdtree::PacketKernels kScalar{Isa::scalar, kdtree::frustum_misses, kdtree::lanes_meeting_box,
+                                                  kdtree::kReferenceSetup};
     return kScalar;
 }
 

@@ -56,8 +56,8 @@ struct TracedPacket {
 };
 
 // The largest tfar * |dir| over the lanes, widened; how far the packet still looks.
-inline float farthest(const TracedPacket& t) {
-    const float d = farthest_distance(t.wp.tfar, t.speed, t.wp.active);
+inline float farthest(const PacketTraversalContext& c, const TracedPacket& t) {
+    const float d = c.tables.kernels->setup.farthest_distance(t.wp.tfar, t.speed, t.wp.active);
     return d + std::fabs(d) * kRelativePad;
 }
 
@@ -78,7 +78,8 @@ inline float farthest(const TracedPacket& t) {
     // Cell decisions use each ray's distance along its line (t * |dir|), so that rays of one
     // direction but different parameter speeds (shadow rays of different lengths) share intervals;
     // triangle tests keep each ray's own t. The lanes' cuts to the start cell, all at once.
-    const CellEntry entry = enter_cell(packet, mask, speed, cell, pb.pad);
+    const PacketSetupKernels& setup = c.tables.kernels->setup;
+    const CellEntry entry = setup.enter_cell(packet, mask, speed, cell, pb.pad);
     if (entry.lanes == 0) return false;
     const Interval cut = widen({entry.c0, entry.c1}, pb.pad);
     *interval = {std::max(cut.lo, entry.near - std::fabs(entry.near) * kRelativePad), cut.hi};
@@ -91,12 +92,12 @@ inline float farthest(const TracedPacket& t) {
     t.occluded = occluded;
     t.speed = speed;
     t.frustum = OneOriginFrustum{};
-    if (c.triangle_culling) t.frustum = make_one_origin_frustum(packet, entry.lanes);
-    make_watertight_packet(packet, t.wp);
+    if (c.triangle_culling) t.frustum = setup.frustum(packet, entry.lanes);
+    setup.watertight(packet, t.wp);
     t.wp.active = entry.lanes;
-    make_lane_box_rays(packet, pb.pad, t.box_rays);
+    setup.box_rays(packet, pb.pad, t.box_rays);
     for (std::uint32_t& b : t.mailbox) b = kNoHit;
-    t.reach = farthest(t);
+    t.reach = farthest(c, t);
     return true;
 }
 
@@ -144,7 +145,7 @@ template <bool kOcclusion, bool kCount>
                     t.reach = -kInfinity;
                     return false;
                 }
-                t.reach = farthest(t);
+                t.reach = farthest(c, t);
             }
         } else {
             bool nearer = false;
@@ -159,7 +160,7 @@ template <bool kOcclusion, bool kCount>
                     nearer = true;
                 }
             }
-            if (nearer) t.reach = farthest(t);
+            if (nearer) t.reach = farthest(c, t);
         }
     }
     return true;
@@ -348,7 +349,8 @@ void trace_packet_lanes(const PacketTraversalContext& c, const Packet16& packet,
     for (int o = 0; o < 8 && coherent; ++o) {
         const std::uint32_t lanes = octant_lanes(lanes_of, coherent, o);
         if (lanes == 0) continue;
-        if (__builtin_popcount(lanes) > 2 && travels_together(group_ranges(packet, lanes_of, lanes), c.kd)) {
+        if (__builtin_popcount(lanes) > 2 &&
+            travels_together(c.tables.kernels->setup.group_ranges(packet, lanes_of, lanes), c.kd)) {
             trace_lanes<kOcclusion, kCount>(c, packet, lanes, start, lanes_of.speed, hits, occluded, counters);
             continue;
         }
@@ -364,8 +366,9 @@ void trace_packet(const PacketTraversalContext& c, const Packet16& packet, const
                   PacketHits16* hits, std::uint32_t* occluded, QueryCounters* counters) {
     clear_packet<kOcclusion, kCount>(hits, occluded, counters);
     if (packet.active == 0) return;
-    // Direction lengths, unit directions and lane classes of all lanes at once (SSE).
-    const PacketLanes lanes_of = packet_lanes(packet);
+    // Direction lengths, unit directions and lane classes of all lanes at once.
+    PacketLanes lanes_of;
+    c.tables.kernels->setup.lanes(packet, lanes_of);
     trace_packet_lanes<kOcclusion, kCount>(c, packet, lanes_of, start, hits, occluded, counters);
 }
 
@@ -382,13 +385,14 @@ void trace_packets_together(const PacketTraversalContext& c, const Packet16* con
     // Together only when every packet's valid lanes, but for those with a zero direction component,
     // share one sign octant; the group's origins and unit directions pass the same tests as a
     // packet's group (trace_packet). Otherwise packet by packet, with the lanes found here.
+    const PacketSetupKernels& setup = c.tables.kernels->setup;
     PacketLanes lanes_of[kMaxTogether];
     std::uint32_t coherent[kMaxTogether];
     int octant = -1, rays = 0;
     bool together = true;
     GroupRanges all;
     for (int p = 0; p < n; ++p) {
-        packet_lanes(*packets[p], lanes_of[p]);
+        setup.lanes(*packets[p], lanes_of[p]);
         coherent[p] = lanes_of[p].valid & ~lanes_of[p].flat;
         if (coherent[p] == 0 || !together) continue;
         const PacketLanes& l = lanes_of[p];
@@ -399,7 +403,7 @@ void trace_packets_together(const PacketTraversalContext& c, const Packet16* con
             continue;
         }
         octant = o;
-        const GroupRanges g = group_ranges(*packets[p], l, coherent[p]);
+        const GroupRanges g = setup.group_ranges(*packets[p], l, coherent[p]);
         if (rays == 0) {
             all = g;
         } else {
