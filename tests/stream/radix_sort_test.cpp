@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <map>
 #include <numeric>
 #include <random>
@@ -102,4 +103,24 @@ TEST(StreamRadixSort, RaysOfOneOriginComeOutTogetherUnlessTheirHashesMeet) {
         }
     }
     EXPECT_GT(together, 50 * origins * 9 / 10);
+}
+
+TEST(StreamGather, CopiesEveryRayIntoTheOrderAboveAndBelowTheStreamingSize) {
+    // Streams of a million rays and more take streaming stores; smaller ones plain copies.
+    std::mt19937 random(12);
+    for (std::size_t n : {std::size_t{1000}, (std::size_t{1} << 20) + 37}) {
+        std::vector<Ray> rays(n);
+        for (std::size_t i = 0; i < n; ++i)
+            rays[i] = Ray{{float(i), float(i % 7), -float(i)}, float(i % 3), {1, float(i % 5), 2}, float(i) + 0.5f};
+        std::vector<std::uint32_t> order(n);
+        std::iota(order.begin(), order.end(), 0u);
+        std::shuffle(order.begin(), order.end(), random);
+        std::vector<Ray> out(n);
+        gather_in_order(rays, order, 0, n / 3, out);
+        gather_in_order(rays, order, n / 3, n, out);
+        for (std::size_t k = 0; k < n; ++k) {
+            const Ray& want = rays[order[k]];
+            ASSERT_EQ(std::memcmp(&out[k], &want, sizeof(Ray)), 0) << n << " ray " << k;
+        }
+    }
 }
