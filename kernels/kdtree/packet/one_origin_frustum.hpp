@@ -21,7 +21,7 @@ struct OneOriginFrustum {
     int j0 = 1, j1 = 2;  // the two other axes
     float sm = 1.0f;     // sign of the rays' main component
     Float3 origin;
-    Interval slope[3];
+    Interval slope[3] = {};  // zero when there is no frustum (valid false)
     // The farthest any ray of the packet reaches along the main axis (tfar * |dir_m|, widened):
     // a triangle whose corners all lie beyond it is past every segment's end (shadow rays end just
     // in front of the surface they start from). +infinity when some segment is unbounded.
