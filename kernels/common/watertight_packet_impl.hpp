@@ -1,7 +1,8 @@
 #pragma once
-// make_watertight_packet (watertight_packet.cpp, SSE: the reference) written once over xsimd
-// batches, W lanes a step: the same compares, selects and divisions lane by lane, so the same bits.
-// Included only by the per-ISA units.
+// make_watertight_packet written once over xsimd batches, W lanes a step: make_watertight_ray's
+// compares, selects and divisions lane by lane, so its bits (make_watertight_packet_reference is the
+// reference). Included by the per-ISA units and, at SSE4.2, by watertight_packet.cpp (the library's
+// baseline form, compiled with the same flags as the SSE4.2 unit).
 #include <bit>
 #include <cstdint>
 

@@ -53,7 +53,8 @@ struct alignas(64) WatertightPacket16 {
     int first = 0;
 };
 
-// The set-up of every lane as make_watertight_ray does it (the reference of the SSE form below).
+// The set-up of every lane as make_watertight_ray does it (the reference of the SIMD forms: the
+// scalar table's set-up, kdtree/packet/packet_setup_kernels.hpp).
 inline WatertightPacket16 make_watertight_packet_reference(const Packet16& p) {
     WatertightPacket16 w;
     for (int i = 0; i < 16; ++i) {
@@ -93,7 +94,7 @@ inline WatertightPacket16 make_watertight_packet_reference(const Packet16& p) {
     return w;
 }
 
-// The same, bit for bit, four lanes at a time (SSE; kernels/common/watertight_packet.cpp).
+// The same, bit for bit, four lanes at a time (the SSE4.2 form of watertight_packet_impl.hpp).
 WatertightPacket16 make_watertight_packet(const Packet16& p);
 // The same, written into w (every field; no copy of the 768-byte result).
 void make_watertight_packet(const Packet16& p, WatertightPacket16& w);

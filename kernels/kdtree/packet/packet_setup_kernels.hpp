@@ -3,7 +3,8 @@
 // PacketKernels table, packet_kernels.hpp): the lane classes and validity, the group ranges, the cut
 // to the start cell, the farthest distance, the one-origin frustum, the watertight packet and the lane
 // box rays. The scalar table holds the references (packet_lanes.hpp, one_origin_frustum.hpp,
-// watertight_ray.hpp, lane_box_test.hpp: SSE, four lanes per instruction); the SSE4.2, AVX2 and
+// lane_box_test.hpp: SSE, four lanes per instruction; watertight_ray.hpp: make_watertight_ray lane by
+// lane); the SSE4.2, AVX2 and
 // AVX-512 tables the same operations 4, 8 and 16 lanes at a time, every result the reference's bit for
 // bit (tests/kdtree/packet_setup_kernels_test.cpp).
 #include <cstdint>
@@ -34,7 +35,7 @@ inline constexpr PacketSetupKernels kReferenceSetup{
     enter_cell,
     farthest_distance,
     make_one_origin_frustum,
-    static_cast<void (*)(const Packet16&, WatertightPacket16&)>(make_watertight_packet),
+    [](const Packet16& p, WatertightPacket16& w) { w = make_watertight_packet_reference(p); },
     static_cast<void (*)(const Packet16&, float, LaneBoxRays&)>(make_lane_box_rays)};
 
 }  // namespace beamtrace::kdtree
