@@ -8,6 +8,7 @@
 //   <scene>/keys_scalar     the same by the scalar reference (per ray)
 //   <scene>/radix_sort      the sort of the keys and the origins' hashes (per ray)
 //   <scene>/gather          the rays copied into sorted order (per ray)
+//   <scene>/sort_rays       the sort and the gather in one (stream/ray_sort.hpp; per ray)
 //   <scene>/cut_groups      the sorted keys cut into groups (per ray)
 //   <scene>/origin_group    one group of rays with one origin by the masked group traversal (per group)
 //   <scene>/single_sorted   the same rays one by one (single-ray traversal) in sorted order (per ray)
@@ -34,6 +35,7 @@
 #include "stream/radix_sort.hpp"
 #include "stream/ray_groups.hpp"
 #include "stream/ray_keys.hpp"
+#include "stream/ray_sort.hpp"
 #include "bench_scenes.hpp"
 #include "rays/workload.hpp"
 
@@ -57,6 +59,7 @@ struct StreamCase {
     std::vector<Ray> sorted;  // the rays in the sort's order (for the terms that trace them)
     std::vector<stream::RayGroup> groups;
     stream::SortBuffers sort_buffers;
+    stream::RaySortBuffers ray_sort_buffers;
 };
 
 std::unique_ptr<StreamCase> build_case(const std::string& name) {
@@ -142,6 +145,16 @@ void bm_gather(benchmark::State& state, const std::string& name) {
     if (!usable(state, c)) return;
     for (auto _ : state) {
         stream::gather_in_order(c.rays, c.order, 0, c.rays.size(), c.sorted);
+        benchmark::DoNotOptimize(c.sorted.data());
+    }
+    per_ray(state, c.rays.size());
+}
+
+void bm_sort_rays(benchmark::State& state, const std::string& name) {
+    StreamCase& c = stream_case(name);
+    if (!usable(state, c)) return;
+    for (auto _ : state) {
+        stream::sort_rays(c.rays, c.keys, c.hashes, c.order, c.sorted_keys, c.sorted, 1, c.ray_sort_buffers);
         benchmark::DoNotOptimize(c.sorted.data());
     }
     per_ray(state, c.rays.size());
@@ -236,6 +249,7 @@ void register_benchmarks() {
         reg("keys_scalar", [name](benchmark::State& s) { bm_keys(s, name, Isa::scalar); });
         reg("radix_sort", [name](benchmark::State& s) { bm_radix_sort(s, name); });
         reg("gather", [name](benchmark::State& s) { bm_gather(s, name); });
+        reg("sort_rays", [name](benchmark::State& s) { bm_sort_rays(s, name); });
         reg("cut_groups", [name](benchmark::State& s) { bm_cut_groups(s, name); });
         reg("origin_group", [name](benchmark::State& s) { bm_origin_group(s, name); });
         reg("single_sorted", [name](benchmark::State& s) { bm_single(s, name, true); });

@@ -56,6 +56,7 @@ foreach(source
     vlf/build/dynamic_update.cpp
     stream/ray_keys.cpp
     stream/radix_sort.cpp
+    stream/ray_sort.cpp
     stream/ray_groups.cpp
     stream/group_traversal.cpp
     stream/stream_tracer.cpp

@@ -12,31 +12,30 @@
 
 namespace beamtrace::stream {
 
-void sort_by_key(std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
-                 std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, int parts, SortBuffers& buffers) {
-    const std::size_t n = keys.size();
+SortWords::SortWords(std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes) {
     // Hash bits only when some ray is keyed by its origin's cell (a stream of pencils sorts by key).
     const bool by_origin = !hashes.empty() && std::any_of(keys.begin(), keys.end(), [](std::uint32_t k) {
         return (k & kPencilBit) == 0;
     });
-    const int h = by_origin ? hash_bits(n) : 0;
-    const int index_bits = 32 - h;
-    const std::uint64_t index_mask = (std::uint64_t{1} << index_bits) - 1;
+    hash_bits = by_origin ? stream::hash_bits(keys.size()) : 0;
+    index_bits = 32 - hash_bits;
+    index_mask = (std::uint64_t{1} << index_bits) - 1;
+}
+
+void sort_by_key(std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
+                 std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, int parts, SortBuffers& buffers) {
+    const std::size_t n = keys.size();
+    const SortWords layout(keys, hashes);
     auto& records = buffers.records;
     records.resize(n);
-    if (h == 0)
-        for (std::size_t i = 0; i < n; ++i) records[i] = (std::uint64_t(keys[i]) << 32) | i;
-    else
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::uint64_t hash = (keys[i] & kPencilBit) ? 0 : hashes[i] >> (32 - h);
-            records[i] = (std::uint64_t(keys[i]) << 32) | (hash << index_bits) | i;
-        }
-    radix_sort(records, buffers.scratch, 32 + h, [index_bits](std::uint64_t r) { return r >> index_bits; }, parts);
+    for (std::size_t i = 0; i < n; ++i) records[i] = layout.word(keys[i], layout.hash_bits ? hashes[i] : 0, i);
+    radix_sort(records, buffers.scratch, 32 + layout.hash_bits,
+               [index_bits = layout.index_bits](std::uint64_t r) { return r >> index_bits; }, parts);
     // Unpacked in a pass of its own: a last scatter writing the order and the keys apart would keep
     // twice the destinations open (measured slower).
     for (std::size_t k = 0; k < n; ++k) {
-        order[k] = std::uint32_t(records[k] & index_mask);
-        sorted_keys[k] = std::uint32_t(records[k] >> 32);
+        order[k] = layout.index(records[k]);
+        sorted_keys[k] = SortWords::key(records[k]);
     }
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "beamtrace/ray.hpp"
+#include "stream/ray_keys.hpp"
 
 namespace beamtrace::stream {
 
@@ -37,6 +38,23 @@ inline int hash_bits(std::size_t n) {
     const int index_bits = std::max(1, int(std::bit_width(n > 1 ? n - 1 : std::size_t{1})));
     return std::clamp(32 - index_bits, 0, kMaxHashBits);
 }
+
+// The sort's 64-bit words: the key in the top 32 bits, then hash_bits(n) bits of the origin's hash
+// (rays keyed by their origin's cell, when the stream has any and hashes are given), then the index.
+struct SortWords {
+    int hash_bits = 0;
+    int index_bits = 32;
+    std::uint64_t index_mask = 0xFFFFFFFFu;
+
+    SortWords(std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes);
+    std::uint64_t word(std::uint32_t key, std::uint32_t hash, std::size_t index) const {
+        const std::uint64_t h = hash_bits == 0 || (key & kPencilBit) ? 0 : hash >> (32 - hash_bits);
+        return (std::uint64_t(key) << 32) | (h << index_bits) | index;
+    }
+    std::uint64_t value(std::uint64_t w) const { return w >> index_bits; }  // what the words sort by
+    std::uint32_t index(std::uint64_t w) const { return std::uint32_t(w & index_mask); }
+    static std::uint32_t key(std::uint64_t w) { return std::uint32_t(w >> 32); }
+};
 
 // Fills `order` with 0 .. keys.size()-1 sorted by key and, among rays of one origin-cell key (bit 31
 // clear), by the top hash_bits(n) bits of hashes[i] (origin_hash of the key's ray); equal keys (and

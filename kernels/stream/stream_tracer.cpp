@@ -21,6 +21,7 @@
 #include "stream/radix_sort.hpp"
 #include "stream/ray_groups.hpp"
 #include "stream/ray_keys.hpp"
+#include "stream/ray_sort.hpp"
 
 namespace beamtrace {
 
@@ -49,7 +50,7 @@ constexpr std::size_t kPencilBlock = 4;
 struct SortedStream {
     std::vector<std::uint32_t> keys, hashes, order, sorted_keys;
     std::vector<Ray> rays;  // in sorted order
-    stream::SortBuffers sort_buffers;
+    stream::RaySortBuffers sort_buffers;
     std::vector<RayGroup> groups;
 };
 
@@ -88,11 +89,11 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
                 out.hashes[i] = (out.keys[i] & stream::kPencilBit) ? 0 : stream::origin_hash(rays[i]);
         }
     });
+    // Sorted and gathered in one (stream/ray_sort.hpp: the rays move with their sort words).
     in_arena(options.threads, [&] {
-        stream::sort_by_key(out.keys, out.hashes, out.order, out.sorted_keys, options.threads, out.sort_buffers);
+        stream::sort_rays(rays, out.keys, out.hashes, out.order, out.sorted_keys, out.rays, options.threads,
+                          out.sort_buffers);
     });
-    run_query_parts(rays.size(), options,
-                    [&](std::size_t b, std::size_t e) { stream::gather_in_order(rays, out.order, b, e, out.rays); });
     in_arena(options.threads, [&] { stream::cut_groups(out.sorted_keys, s.min_group_rays, out.groups, options.threads); });
 }
 

@@ -62,8 +62,9 @@ public:
             {"group_steps_per_ray", double(s.group_steps) / n},
             {"triangle_tests_per_ray", double(c.triangle_tests) / n},
             // The calling thread's buffers of a call of these rays (docs/streams.md): keys, origin
-            // hashes, order, sorted keys, sorted rays, radix words and scratch, groups.
-            {"buffer_bytes", tracer_->settings().sort ? s.rays * (4 + 4 + 4 + 4 + sizeof(Ray) + 16) + groups * 12 : 0},
+            // hashes, order, sorted keys, sorted rays, the sort's 40-byte records of a ray and its
+            // word (stream/ray_sort.hpp), groups.
+            {"buffer_bytes", tracer_->settings().sort ? s.rays * (4 + 4 + 4 + 4 + sizeof(Ray) + 40) + groups * 12 : 0},
             {"sort", tracer_->settings().sort},
             {"min_group_rays", tracer_->settings().min_group_rays}};
         j.update(tree_json(tree_->stats()));

@@ -1,0 +1,217 @@
+// The stream tracer's sort and gather in one (ray_sort.hpp).
+#include "stream/ray_sort.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstring>
+#include <string>
+
+#include <immintrin.h>
+#include <tbb/parallel_for.h>
+
+#include "beamtrace/error.hpp"
+#include "stream/radix_sort.hpp"
+
+namespace beamtrace::stream {
+
+namespace {
+
+// The scatter's digit: up to 16 bits (65,536 buckets; room's 16.8 million AO rays, whose keys crowd
+// where the surfaces are, fill 4,585 of them), fewer for smaller streams (about 256 rays a bucket).
+constexpr int kMaxTopBits = 16;
+int top_bits(std::size_t n) { return std::clamp(int(std::bit_width(n)) - 8, 1, kMaxTopBits); }
+constexpr int kDigitBits = 11;  // a bucket's digits (at most)
+constexpr std::size_t kSmallBucket = 48;  // sorted by std::sort
+// Streams of at least this many rays are written with streaming stores (they exceed the caches).
+constexpr std::size_t kStreamingRays = std::size_t{1} << 20;
+
+using Histogram = std::array<std::uint32_t, std::size_t{1} << kDigitBits>;
+
+// The per-thread words of one bucket: (the words' value below the top digit, position in the bucket).
+struct BucketWords {
+    std::vector<std::uint64_t> a, b;
+};
+
+class BucketSort {
+public:
+    BucketSort(const SortWords& layout, int low_bits, const SortRecord* records, std::span<std::uint32_t> order,
+               std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays, bool streaming)
+        : layout_(layout),
+          low_mask_(low_bits >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << low_bits) - 1),
+          records_(records),
+          order_(order),
+          sorted_keys_(sorted_keys),
+          sorted_rays_(sorted_rays),
+          streaming_(streaming) {}
+
+    // Sorts the records [begin, end) (they share the top digit) into the outputs' [begin, end).
+    void operator()(std::size_t begin, std::size_t end, BucketWords& words) const {
+        const std::size_t m = end - begin;
+        const int pos_bits = std::max(1, int(std::bit_width(m - 1)));
+        words.a.resize(m);
+        words.b.resize(m);
+        std::uint64_t* w = words.a.data();
+        std::uint64_t any = 0, all = ~std::uint64_t{0};
+        for (std::size_t j = 0; j < m; ++j) {
+            const std::uint64_t v = layout_.value(records_[begin + j].word) & low_mask_;
+            any |= v;
+            all &= v;
+            w[j] = (v << pos_bits) | j;  // positions ascend: equal values keep the input order
+        }
+        const int top = std::bit_width(any ^ all);
+        if (top > 0) {
+            if (m <= kSmallBucket)
+                std::sort(w, w + m);
+            else
+                w = least_digit_first(w, words.b.data(), m, pos_bits, top, any ^ all);
+        }
+        write(w, begin, m, (std::uint64_t{1} << pos_bits) - 1);
+    }
+
+private:
+    // LSD radix sort of w[0, m) by the bits [pos_bits, pos_bits + top), digits of near-equal width;
+    // digits that no word varies in (`varying`, of the value) skipped. Returns where the words end.
+    static std::uint64_t* least_digit_first(std::uint64_t* w, std::uint64_t* spare, std::size_t m, int pos_bits,
+                                            int top, std::uint64_t varying) {
+        const int digits = (top + kDigitBits - 1) / kDigitBits;
+        const int width = (top + digits - 1) / digits;
+        const std::uint64_t digit_mask = (std::uint64_t{1} << width) - 1;
+        const std::size_t buckets = std::size_t{1} << width;
+        std::array<int, 64 / kDigitBits + 1> shifts{};
+        int passes = 0;
+        for (int j = 0; j < digits; ++j)
+            if ((varying >> (j * width)) & digit_mask) shifts[std::size_t(passes++)] = pos_bits + j * width;
+        std::array<Histogram, 64 / kDigitBits + 1> count;
+        for (int p = 0; p < passes; ++p) std::fill_n(count[std::size_t(p)].begin(), buckets, 0u);
+        for (std::size_t i = 0; i < m; ++i)
+            for (int p = 0; p < passes; ++p) ++count[std::size_t(p)][(w[i] >> shifts[std::size_t(p)]) & digit_mask];
+        Histogram at;
+        for (int p = 0; p < passes; ++p) {
+            std::uint32_t sum = 0;
+            for (std::size_t d = 0; d < buckets; ++d) {
+                at[d] = sum;
+                sum += count[std::size_t(p)][d];
+            }
+            const int shift = shifts[std::size_t(p)];
+            for (std::size_t i = 0; i < m; ++i) spare[at[(w[i] >> shift) & digit_mask]++] = w[i];
+            std::swap(w, spare);
+        }
+        return w;
+    }
+
+    // The bucket's records in the words' order: rays, indices, keys.
+    void write(const std::uint64_t* w, std::size_t begin, std::size_t m, std::uint64_t pos_mask) const {
+        const SortRecord* from = records_ + begin;
+        Ray* rays = sorted_rays_.data() + begin;
+        std::uint32_t* order = order_.data() + begin;
+        std::uint32_t* keys = sorted_keys_.data() + begin;
+        for (std::size_t k = 0; k < m; ++k) {
+            const SortRecord& r = from[w[k] & pos_mask];
+            order[k] = layout_.index(r.word);
+            keys[k] = SortWords::key(r.word);
+            if (streaming_) {
+                const auto* f = reinterpret_cast<const float*>(&r.ray);
+                auto* t = reinterpret_cast<float*>(rays + k);
+                _mm_stream_ps(t, _mm_loadu_ps(f));
+                _mm_stream_ps(t + 4, _mm_loadu_ps(f + 4));
+            } else {
+                rays[k] = r.ray;
+            }
+        }
+    }
+
+    const SortWords& layout_;
+    std::uint64_t low_mask_;
+    const SortRecord* records_;
+    std::span<std::uint32_t> order_, sorted_keys_;
+    std::span<Ray> sorted_rays_;
+    bool streaming_;
+};
+
+}  // namespace
+
+void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
+               std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays,
+               int parts, RaySortBuffers& buffers) {
+    const std::size_t n = rays.size();
+    if (keys.size() != n || order.size() != n || sorted_keys.size() != n || sorted_rays.size() != n ||
+        (!hashes.empty() && hashes.size() != n))
+        throw Error("sort_rays: keys, hashes (when given), order, sorted keys and sorted rays must hold one entry per "
+                    "ray (" + std::to_string(n) + ")");
+    if (n > std::size_t(0xFFFFFFFFu)) throw Error("sort_rays: at most 4294967295 rays, not " + std::to_string(n));
+    if (n == 0) return;
+    const SortWords layout(keys, hashes);
+    const auto word = [&](std::size_t i) { return layout.word(keys[i], layout.hash_bits ? hashes[i] : 0, i); };
+    parts = std::max(1, std::min(parts, int(n / 65536) + 1));
+    const auto range = [&](int p) {
+        return std::pair{n * std::size_t(p) / std::size_t(parts), n * std::size_t(p + 1) / std::size_t(parts)};
+    };
+    const auto for_parts = [&](auto&& f) {
+        if (parts == 1) return f(0);
+        tbb::parallel_for(0, parts, [&](int p) { f(p); });
+    };
+    // The bits the words' values vary in; the top digit is the highest top_bits(n) of them.
+    std::vector<std::array<std::uint64_t, 2>> seen(static_cast<std::size_t>(parts));  // (any, all) per part
+    for_parts([&](int p) {
+        std::uint64_t any = 0, all = ~std::uint64_t{0};
+        const auto [begin, end] = range(p);
+        for (std::size_t i = begin; i < end; ++i) {
+            const std::uint64_t v = layout.value(word(i));
+            any |= v;
+            all &= v;
+        }
+        seen[std::size_t(p)] = {any, all};
+    });
+    std::uint64_t any = 0, all = ~std::uint64_t{0};
+    for (const auto& s : seen) any |= s[0], all &= s[1];
+    const int top = std::bit_width(any ^ all);
+    const int digit_bits = top_bits(n);
+    const std::size_t buckets = std::size_t{1} << digit_bits;
+    const int shift = std::max(0, top - digit_bits);
+    const auto digit = [&](std::size_t i) { return std::size_t((layout.value(word(i)) >> shift) & (buckets - 1)); };
+    std::vector<std::vector<std::uint32_t>> count(static_cast<std::size_t>(parts));
+    for_parts([&](int p) {
+        auto& c = count[std::size_t(p)];
+        c.assign(buckets, 0);
+        const auto [begin, end] = range(p);
+        for (std::size_t i = begin; i < end; ++i) ++c[digit(i)];
+    });
+    // Offsets: bucket by bucket, part by part (stable).
+    std::vector<std::size_t> at(buckets + 1);
+    std::vector<std::vector<std::size_t>> to(static_cast<std::size_t>(parts), std::vector<std::size_t>(buckets));
+    std::size_t sum = 0;
+    for (std::size_t d = 0; d < buckets; ++d) {
+        at[d] = sum;
+        for (std::size_t p = 0; p < std::size_t(parts); ++p) {
+            to[p][d] = sum;
+            sum += count[p][d];
+        }
+    }
+    at[buckets] = sum;
+    auto& records = buffers.records;
+    records.resize(n);
+    for_parts([&](int p) {
+        auto& t = to[std::size_t(p)];
+        const auto [begin, end] = range(p);
+        for (std::size_t i = begin; i < end; ++i) {
+            const std::uint64_t w = word(i);
+            SortRecord& r = records[t[(layout.value(w) >> shift) & (buckets - 1)]++];
+            r.ray = rays[i];
+            r.word = w;
+        }
+    });
+    const bool streaming = n >= kStreamingRays && reinterpret_cast<std::uintptr_t>(sorted_rays.data()) % 16 == 0;
+    const BucketSort sort_bucket(layout, shift, records.data(), order, sorted_keys, sorted_rays, streaming);
+    static thread_local BucketWords words;
+    const auto bucket = [&](std::size_t d) {
+        if (at[d + 1] > at[d]) sort_bucket(at[d], at[d + 1], words);
+    };
+    if (parts == 1)
+        for (std::size_t d = 0; d < buckets; ++d) bucket(d);
+    else
+        tbb::parallel_for(std::size_t{0}, buckets, bucket);
+    if (streaming) _mm_sfence();
+}
+
+}  // namespace beamtrace::stream

@@ -1,0 +1,38 @@
+#pragma once
+// The stream tracer's sort and gather in one (docs/streams.md, "Sorting the rays themselves"): the
+// rays are moved with their sort words instead of being gathered by index afterwards. One pass reads
+// the stream in its own order and scatters (ray, word) records by the words' top varying digit into
+// buckets; each bucket, small enough for the core's cache, is sorted there by the rest of its words
+// and written out: the rays, the order and the sorted keys, each in sorted order. The random reads
+// of a gather over the whole stream (a TLB and a cache miss per ray once the stream is larger than
+// the caches) become reads within one bucket.
+//
+// The result is sort_by_key's order and gather_in_order's rays, bit for bit (radix_sort.hpp).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "beamtrace/ray.hpp"
+
+namespace beamtrace::stream {
+
+// A ray with its sort word (radix_sort.cpp's layout: key, origin-hash bits, index).
+struct SortRecord {
+    Ray ray;
+    std::uint64_t word;
+};
+static_assert(sizeof(SortRecord) == 40);
+
+// The records, kept by the caller across calls (no fresh pages per call).
+struct RaySortBuffers {
+    std::vector<SortRecord> records;
+};
+
+// order, sorted_keys and sorted_rays as sort_by_key(keys, hashes, order, sorted_keys) and
+// gather_in_order(rays, order, 0, n, sorted_rays) give them; every span holds rays.size() (else
+// beamtrace::Error). On `parts` threads of the caller's TBB arena.
+void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
+               std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays,
+               int parts, RaySortBuffers& buffers);
+
+}  // namespace beamtrace::stream

@@ -1,0 +1,88 @@
+// The sort and gather in one (stream/ray_sort.hpp) gives what the sort by key and the gather give
+// apart, bit for bit: the same order, keys and rays, on one part and on several, for keys spread
+// over every bit, keys sharing their top bits, few distinct keys, and streams with and without
+// origin hashes.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include <tbb/task_arena.h>
+
+#include "beamtrace/error.hpp"
+#include "stream/radix_sort.hpp"
+#include "stream/ray_keys.hpp"
+#include "stream/ray_sort.hpp"
+
+using namespace beamtrace;
+using namespace beamtrace::stream;
+
+namespace {
+
+void expect_as_sort_then_gather(const std::vector<std::uint32_t>& keys, const std::vector<Ray>& rays, bool hashed,
+                                int parts) {
+    const std::size_t n = keys.size();
+    std::vector<std::uint32_t> hashes;
+    if (hashed)
+        for (const Ray& r : rays) hashes.push_back(origin_hash(r));
+    std::vector<std::uint32_t> order(n), sorted(n), want_order(n), want_sorted(n);
+    std::vector<Ray> out(n), want_out(n);
+    SortBuffers sort_buffers;
+    sort_by_key(keys, hashes, want_order, want_sorted, 1, sort_buffers);
+    gather_in_order(rays, want_order, 0, n, want_out);
+    RaySortBuffers buffers;
+    tbb::task_arena arena(parts);
+    arena.execute([&] { sort_rays(rays, keys, hashes, order, sorted, out, parts, buffers); });
+    ASSERT_EQ(order, want_order) << n << " rays, " << parts << " parts";
+    ASSERT_EQ(sorted, want_sorted);
+    ASSERT_EQ(n == 0 ? 0 : std::memcmp(out.data(), want_out.data(), n * sizeof(Ray)), 0);
+}
+
+std::vector<Ray> some_rays(std::size_t n, std::mt19937& random, int origins) {
+    std::vector<Ray> rays(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const int o = int(random() % std::uint32_t(origins));
+        rays[i] = Ray{{float(o % 97), float(o / 97) * 0.5f, -0.25f * float(o % 5)}, float(i % 3),
+                      {1.0f, float(i % 11) - 5.0f, float(random() % 1000) * 1e-3f}, float(i) + 0.5f};
+    }
+    return rays;
+}
+
+}  // namespace
+
+TEST(StreamRaySort, GivesTheSortByKeyAndTheGatherBitForBit) {
+    std::mt19937 random(21);
+    for (std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{2}, std::size_t{47}, std::size_t{1000},
+                          std::size_t{300000}, (std::size_t{1} << 20) + 5}) {
+        const std::vector<Ray> rays = some_rays(n, random, 5000);
+        std::vector<std::uint32_t> spread(n), top_shared(n), few(n), cells(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            spread[i] = random();
+            // Nine in ten share their top bits (one large bucket), their low bits spread.
+            top_shared[i] = random() % 10 ? 0x12300000u | ((random() & 0xFFFFFu) >> (random() % 12)) : random() >> 1;
+            few[i] = random() % 7 == 0 ? kNoSegmentKey : (random() % 5) << 22;
+            // Origin-cell keys with a few pencils among them (as a mixed stream's).
+            cells[i] = random() % 9 == 0 ? kPencilBit | (random() & 0xFFFFFu) : std::uint32_t(i % 4096) * 2654435761u >> 3;
+        }
+        for (const auto* keys : {&spread, &top_shared, &few, &cells})
+            for (bool hashed : {false, true})
+                for (int parts : {1, 2}) expect_as_sort_then_gather(*keys, rays, hashed, parts);
+    }
+}
+
+TEST(StreamRaySort, EveryRayOfOneKeyAndTheOnlyKey) {
+    // One key and one origin for every ray: nothing varies, the input order is the sorted one.
+    std::mt19937 random(22);
+    const std::vector<Ray> rays = some_rays(200000, random, 1);
+    expect_as_sort_then_gather(std::vector<std::uint32_t>(rays.size(), 77u), rays, true, 1);
+    expect_as_sort_then_gather(std::vector<std::uint32_t>(rays.size(), 77u), rays, true, 2);
+}
+
+TEST(StreamRaySort, RefusesSpansOfOtherSizes) {
+    std::vector<Ray> rays(10);
+    std::vector<std::uint32_t> keys(10), order(10), sorted(9);
+    std::vector<Ray> out(10);
+    RaySortBuffers buffers;
+    EXPECT_THROW(sort_rays(rays, keys, {}, order, sorted, out, 1, buffers), Error);
+}
