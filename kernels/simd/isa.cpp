@@ -1,5 +1,6 @@
 #include "simd/isa.hpp"
 
+#include <array>
 #include <cstdlib>
 
 #include <xsimd/xsimd.hpp>
@@ -28,18 +29,15 @@ bool os_saves(unsigned long long bits) {
 }  // namespace
 
 bool isa_available(Isa isa) {
-    static const xsimd::detail::supported_arch cpu = xsimd::available_architectures();
-    switch (isa) {
-        case Isa::scalar:
-            return true;
-        case Isa::sse42:
-            return cpu.sse4_2;
-        case Isa::avx2:
-            return cpu.avx2 && os_saves(0x6);
-        case Isa::avx512:
-            return cpu.avx512f && cpu.avx512bw && cpu.avx512dq && cpu.avx512cd && cpu.avx2 && os_saves(0xE6);
-    }
-    return false;
+    // Read once: kernel tables are selected per call (simd::select), and XGETBV is not free.
+    static const std::array<bool, 4> available = [] {
+        const xsimd::detail::supported_arch cpu = xsimd::available_architectures();
+        return std::array<bool, 4>{
+            true, bool(cpu.sse4_2), cpu.avx2 && os_saves(0x6),
+            cpu.avx512f && cpu.avx512bw && cpu.avx512dq && cpu.avx512cd && cpu.avx2 && os_saves(0xE6)};
+    }();
+    const int i = static_cast<int>(isa);
+    return i >= 0 && i < 4 && available[std::size_t(i)];
 }
 
 const char* isa_name(Isa isa) {

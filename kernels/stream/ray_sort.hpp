@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "beamtrace/ray.hpp"
+#include "common/huge_page_allocator.hpp"
 
 namespace beamtrace::stream {
 
@@ -25,7 +26,7 @@ static_assert(sizeof(SortRecord) == 40);
 
 // The records, kept by the caller across calls (no fresh pages per call).
 struct RaySortBuffers {
-    std::vector<SortRecord> records;
+    std::vector<SortRecord, HugePageAllocator<SortRecord>> records;
 };
 
 // order, sorted_keys and sorted_rays as sort_by_key(keys, hashes, order, sorted_keys) and

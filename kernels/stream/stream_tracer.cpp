@@ -13,6 +13,7 @@
 
 #include "beamtrace/error.hpp"
 #include "common/access.hpp"
+#include "common/huge_page_allocator.hpp"
 #include "common/query_runner.hpp"
 #include "kdtree/packet/packet_traversal.hpp"
 #include "kdtree/ray_traversal.hpp"
@@ -49,7 +50,7 @@ constexpr std::size_t kPencilBlock = 4;
 // The sorted order of a call: keys, order, the rays in that order, and groups.
 struct SortedStream {
     std::vector<std::uint32_t> keys, hashes, order, sorted_keys;
-    std::vector<Ray> rays;  // in sorted order
+    std::vector<Ray, HugePageAllocator<Ray>> rays;  // in sorted order (huge pages: common/huge_page_allocator.hpp)
     stream::RaySortBuffers sort_buffers;
     std::vector<RayGroup> groups;
 };
