@@ -7,7 +7,9 @@
 //     a point light: found by sampling the stream) are keyed by that point and their direction
 //     (octahedral code, no seam); every other ray by its origin (Morton code of its cell);
 //  2. a radix sort of the keys (linear time), the rays of one origin cell by a hash of their exact
-//     origin too (so that each origin's rays come out together);
+//     origin too (so that each origin's rays come out together); the rays move with their keys
+//     (one scatter into buckets that fit the cache, each bucket sorted there), so no ray is read at
+//     a random place of the stream;
 //  3. groups cut from the sorted order: up to 16 rays through one shared point make a packet, traced
 //     by the kd-tree's interval traversal (shadow rays towards a light are traced from the light,
 //     MLRTA section 6); up to 16 rays with one origin (ambient occlusion: the rays of one hit point)

@@ -3,6 +3,7 @@
 // emitted) and instantiates every xsimd template for it. Kernels with no AVX2 form of their own
 // come from the SSE4.2 table.
 #include "simd/isa_unit.hpp"
+#include "stream/group_traversal_impl.hpp"
 #include "stream/ray_keys_impl.hpp"
 #include "vlf/query/footprint_scan_impl.hpp"
 #include "vlf/stream/tile_ray_batch_avx2_impl.hpp"
@@ -43,6 +44,12 @@ const vlf::VlfKernels& simd::table<vlf::VlfKernels, Isa::avx2>() {
 template <>
 const stream::KeyKernels& simd::table<stream::KeyKernels, Isa::avx2>() {
     static constexpr stream::KeyKernels k{Isa::avx2, stream::KeyLanes<xsimd::avx2>::keys};
+    return k;
+}
+
+template <>
+const stream::GroupKernels& simd::table<stream::GroupKernels, Isa::avx2>() {
+    static constexpr stream::GroupKernels k = stream::GroupLanes<xsimd::avx2>::table(Isa::avx2);
     return k;
 }
 

@@ -8,6 +8,7 @@
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include "simd/isa_unit.hpp"
+#include "stream/group_traversal_impl.hpp"
 #include "stream/ray_keys_impl.hpp"
 #include "vlf/query/entry_closest_hit_impl.hpp"
 #include "vlf/query/entry_occlusion_impl.hpp"
@@ -72,6 +73,12 @@ const vlf::VlfKernels& simd::table<vlf::VlfKernels, Isa::avx512>() {
 template <>
 const stream::KeyKernels& simd::table<stream::KeyKernels, Isa::avx512>() {
     static constexpr stream::KeyKernels k{Isa::avx512, stream::KeyLanes<xsimd::avx512bw>::keys};
+    return k;
+}
+
+template <>
+const stream::GroupKernels& simd::table<stream::GroupKernels, Isa::avx512>() {
+    static constexpr stream::GroupKernels k = stream::GroupLanes<xsimd::avx512bw>::table(Isa::avx512);
     return k;
 }
 

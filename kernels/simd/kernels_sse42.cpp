@@ -1,6 +1,7 @@
 // Every kernel table of the library for SSE4.2 (simd/dispatch.hpp). This unit alone is compiled for
 // SSE4.2 (kernels/CMakeLists.txt, beamtrace_isa_unit) and instantiates every xsimd template for it.
 #include "simd/isa_unit.hpp"
+#include "stream/group_traversal_impl.hpp"
 #include "stream/ray_keys_impl.hpp"
 #include "vlf/query/footprint_scan_impl.hpp"
 
@@ -44,6 +45,12 @@ const vlf::VlfKernels& simd::table<vlf::VlfKernels, Isa::sse42>() {
 template <>
 const stream::KeyKernels& simd::table<stream::KeyKernels, Isa::sse42>() {
     static constexpr stream::KeyKernels k{Isa::sse42, stream::KeyLanes<xsimd::sse4_2>::keys};
+    return k;
+}
+
+template <>
+const stream::GroupKernels& simd::table<stream::GroupKernels, Isa::sse42>() {
+    static constexpr stream::GroupKernels k = stream::GroupLanes<xsimd::sse4_2>::table(Isa::sse42);
     return k;
 }
 

@@ -3,6 +3,10 @@
 // and the mask of the lanes whose bit is set (lanes_on), for the widest instruction set the including
 // unit is compiled for (and only that one: a unit compiled with -mavx2 must never provide the code a
 // narrower unit links to). Included only by the per-ISA units.
+//
+// Mask operators: xsimd 8.1 (Debian 12) computes an AVX-512 batch_bool ^ batch_bool as |; write an
+// xor of masks as (a & ~b) | (~a & b) (stream/group_traversal_impl.hpp). &, | and ~ are right on
+// every width.
 #include <cstdint>
 
 #include <immintrin.h>

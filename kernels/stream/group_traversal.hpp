@@ -15,16 +15,37 @@
 
 #include "beamtrace/query.hpp"
 #include "beamtrace/ray.hpp"
+#include "common/watertight_ray.hpp"
 #include "kdtree/kd_node.hpp"
+#include "simd/dispatch.hpp"
 
 namespace beamtrace::stream {
 
 inline constexpr int kPacketTestLanes = 4;
 
 // The active lanes of `group`: closest hits into *hits (every lane written) or occlusion bits into
-// *occluded. With kCount: counters->stream.group_steps, group_leaves and triangle_tests grow.
+// *occluded. With kCount: counters->stream.group_steps, group_leaves and triangle_tests grow. By the
+// kernels of the tree's instruction set (every one gives the same answers and counts).
 template <bool kOcclusion, bool kCount>
 void trace_group(const KdTree::Impl& kd, const Packet16& group, PacketHits16* hits, std::uint32_t* occluded,
                  QueryCounters* counters);
 
+// A lane's start, for the kernels below: false when the ray describes no segment or misses the
+// tree's box; else its reciprocal direction and its interval clipped to the box. And a lane's set-up
+// for the single-ray triangle kernels. Compiled once, for the library's baseline: the per-ISA units
+// that include group_traversal_impl.hpp must not compile copies of these inline functions of their
+// own (simd/isa_unit.hpp).
+bool group_lane_start(const KdTree::Impl& kd, const Ray& r, float inv[3], float& tmin, float& tmax);
+WatertightRay group_lane_ray(const Ray& r);
+
+// The traversal at one instruction set's width (group_traversal_impl.hpp): trace[occlusion][count].
+using TraceGroupFn = void (*)(const KdTree::Impl& kd, const Packet16& group, PacketHits16* hits,
+                              std::uint32_t* occluded, QueryCounters* counters);
+struct GroupKernels {
+    Isa isa;
+    TraceGroupFn trace[2][2];
+};
+
 }  // namespace beamtrace::stream
+
+BEAMTRACE_KERNEL_TABLE(beamtrace::stream::GroupKernels);

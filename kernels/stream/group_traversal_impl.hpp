@@ -1,0 +1,331 @@
+#pragma once
+// The masked group traversal (group_traversal.hpp) written once over xsimd's Arch: an inner node is
+// one step of 4, 8 or 16 lanes at a time (SSE4.2, AVX2, AVX-512), every lane doing the operations of
+// the single-ray traversal's decision in the same order, so every width gives the same answers and
+// counts bit for bit (GroupTraversal.EveryInstructionSetGivesTheSameAnswersBitForBit). Included only
+// by the per-ISA units (simd/kernels_<isa>.cpp), which put GroupLanes<Arch>::trace in their
+// GroupKernels tables.
+#include <cmath>
+#include <cstdint>
+
+#include <xsimd/xsimd.hpp>
+
+#include "common/ray_batches.hpp"
+#include "common/triangle_kernels.hpp"
+#include "common/watertight_packet_impl.hpp"
+#include "simd/lane_bits.hpp"
+#include "stream/group_traversal.hpp"
+
+namespace beamtrace::stream {
+
+// Everything here is a template of the unit's Arch (no inline function of external linkage compiled
+// for a wider instruction set can be linked into a narrower unit); the lane set-up comes from
+// group_lane_start and group_lane_ray, compiled once.
+namespace group_detail {
+
+
+constexpr int kStackSize = 64;
+
+struct alignas(64) Intervals {
+    float tmin[16], tmax[16];
+};
+
+struct StackEntry {
+    std::uint32_t node;
+    std::uint32_t lanes;
+    Intervals t;
+};
+
+// The group's rays in the layout the steps read.
+struct GroupRays {
+    const float* org[3];
+    const float* dir[3];
+    alignas(64) float inv[3][16];
+};
+
+// One inner node for every lane in `lanes`: the single-ray traversal's decisions lane by lane. The
+// group goes on into `near` (the lower child when lower_first), whose lanes and intervals replace
+// `t` in place; the other child's go to `far`. Returns the lanes going near; far_lanes those going
+// far.
+// kOneOrigin: every lane starts at lane `lead`'s origin, which does not lie in the plane (the
+// distance to the plane and the side are then the same for all lanes: computed once).
+template <class Arch, bool kOneOrigin>
+std::uint32_t split_lanes(const GroupRays& g, Intervals& t, std::uint32_t lanes, int axis, float split_at,
+                          bool lower_first, Intervals& far, std::uint32_t& far_lanes) {
+    using B = xsimd::batch<float, Arch>;
+    using M = xsimd::batch_bool<float, Arch>;
+    constexpr int W = int(B::size);
+    constexpr std::uint32_t kBlock = (1u << W) - 1u;
+    const B split(split_at), ulp(1.0f / 1048576.0f), zero(0.0f);
+    const M all = zero == zero, none = zero != zero;
+    const M near_is_lower = lower_first ? all : none;
+    const int lead = __builtin_ctz(lanes);
+    const B to_plane(split_at - g.org[axis][lead]);
+    const M lead_below = g.org[axis][lead] < split_at ? all : none;
+    std::uint32_t near_lanes = 0;
+    far_lanes = 0;
+    for (int base = 0; base < 16; base += W) {
+        if (((lanes >> base) & kBlock) == 0) continue;
+        const B tmin = B::load_aligned(t.tmin + base), tmax = B::load_aligned(t.tmax + base);
+        B tp;
+        M lower_side;
+        // The lower child first: the origin below the plane, or in it going up; a plane crossed
+        // behind the origin swaps the order.
+        if constexpr (kOneOrigin) {
+            tp = to_plane * B::load_aligned(g.inv[axis] + base);
+            lower_side = lead_below;
+        } else {
+            const B o = B::load_unaligned(g.org[axis] + base), d = B::load_unaligned(g.dir[axis] + base);
+            tp = (split - o) * B::load_aligned(g.inv[axis] + base);
+            lower_side = (o < split) | ((o == split) & (d > zero));
+        }
+        // lower_side xor behind, without ^: xsimd 8.1's AVX-512 batch_bool ^ computes |.
+        const M behind = tp < zero;
+        const M first_lower = (lower_side & ~behind) | (~lower_side & behind);
+        const M second_lower = ~first_lower;
+        const M visits_first = ~(tp < tmin - xsimd::abs(tmin) * ulp);
+        const M visits_second = ~(tp > tmax + xsimd::abs(tmax) * ulp);
+        const M both = visits_first & visits_second & (tp == tp);
+        const M lower = (first_lower & visits_first) | (second_lower & visits_second);
+        const M upper = (first_lower & visits_second) | (second_lower & visits_first);
+        const M on = simd::lanes_on<Arch>(lanes >> base);
+        const B lo_min = xsimd::select(both & second_lower, tp, tmin), lo_max = xsimd::select(both & first_lower, tp, tmax);
+        const B up_min = xsimd::select(both & first_lower, tp, tmin), up_max = xsimd::select(both & second_lower, tp, tmax);
+        const std::uint32_t lower_bits = simd::lane_bits<Arch>(lower & on), upper_bits = simd::lane_bits<Arch>(upper & on);
+        near_lanes |= (lower_first ? lower_bits : upper_bits) << base;
+        far_lanes |= (lower_first ? upper_bits : lower_bits) << base;
+        xsimd::select(near_is_lower, lo_min, up_min).store_aligned(t.tmin + base);
+        xsimd::select(near_is_lower, lo_max, up_max).store_aligned(t.tmax + base);
+        xsimd::select(near_is_lower, up_min, lo_min).store_aligned(far.tmin + base);
+        xsimd::select(near_is_lower, up_max, lo_max).store_aligned(far.tmax + base);
+    }
+    return near_lanes;
+}
+
+// Whether lane i meets the lower child first (the single-ray traversal's order for that lane).
+template <class Arch>
+bool lower_first_for(const GroupRays& g, int i, int axis, float split) {
+    const float o = g.org[axis][i], d = g.dir[axis][i];
+    const float tp = (split - o) * g.inv[axis][i];
+    const bool lower_side = o < split || (o == split && d > 0.0f);
+    return lower_side != (tp < 0.0f);
+}
+
+// Lanes whose interval starts beyond their closest hit (with the traversal's slack) leave.
+template <class Arch>
+std::uint32_t lanes_before(const Intervals& t, const float* best, std::uint32_t lanes) {
+    using B = xsimd::batch<float, Arch>;
+    constexpr int W = int(B::size);
+    constexpr std::uint32_t kBlock = (1u << W) - 1u;
+    const B ulp(1.0f / 1048576.0f);
+    std::uint32_t keep = 0;
+    for (int base = 0; base < 16; base += W) {
+        if (((lanes >> base) & kBlock) == 0) continue;
+        const B b = B::load_aligned(best + base);
+        keep |= simd::lane_bits<Arch>(~(B::load_aligned(t.tmin + base) > b + xsimd::abs(b) * ulp)) << base;
+    }
+    return keep & lanes;
+}
+
+template <class Arch, bool kOcclusion, bool kCount>
+class GroupTrace {
+public:
+    GroupTrace(const KdTree::Impl& kd, const Packet16& group, PacketHits16* hits, std::uint32_t* occluded,
+               QueryCounters* counters)
+        : kd_(kd), group_(group), hits_(hits), occluded_(occluded), counters_(counters), kernels_(*kd.kernels) {}
+
+    void run() {
+        if constexpr (kOcclusion)
+            *occluded_ = 0;
+        else
+            for (int i = 0; i < 16; ++i) hits_->set_hit(i, Hit{});
+        Intervals t;
+        std::uint32_t lanes = 0;
+        for (int k = 0; k < 3; ++k) {
+            rays_.org[k] = k == 0 ? group_.org_x : k == 1 ? group_.org_y : group_.org_z;
+            rays_.dir[k] = k == 0 ? group_.dir_x : k == 1 ? group_.dir_y : group_.dir_z;
+        }
+        for (std::uint32_t m = group_.active & 0xFFFFu; m; m &= m - 1) {
+            const int i = __builtin_ctz(m);
+            const Ray r = group_.ray(i);
+            best_[i] = r.tfar;
+            float inv[3];
+            if (!group_lane_start(kd_, r, inv, t.tmin[i], t.tmax[i])) continue;
+            for (int k = 0; k < 3; ++k) rays_.inv[k][i] = inv[k];
+            lanes |= 1u << i;
+        }
+        for (std::uint32_t m = ~lanes & 0xFFFFu; m; m &= m - 1) {  // lanes out: harmless values
+            const int i = __builtin_ctz(m);
+            t.tmin[i] = t.tmax[i] = 0.0f;
+            best_[i] = 0.0f;
+            for (int k = 0; k < 3; ++k) rays_.inv[k][i] = 1.0f;
+        }
+        if (lanes == 0) return;
+        valid_ = lanes;
+        Packet16 valid = group_;
+        valid.active = lanes;
+        simd_impl::make_watertight_packet<Arch>(valid, packet_);
+        one_origin_ = packet_.same_origin;
+        traverse(lanes, t);
+    }
+
+private:
+    void traverse(std::uint32_t lanes, Intervals& t) {
+        const KdNode* nodes = kd_.nodes.data();
+        StackEntry stack[kStackSize];
+        int top = 0;
+        std::uint32_t index = 0;
+        for (;;) {
+            if (lanes != 0) {
+                const KdNode& node = nodes[index];
+                if (!node.is_leaf()) {
+                    if constexpr (kCount) ++counters_->stream.group_steps;
+                    // Near: the child the leading lane meets first. The far child's lanes go on the
+                    // stack (depth <= 60, KdBuildRules: it never overflows).
+                    const int axis = node.axis();
+                    const bool lower_first = lower_first_for<Arch>(rays_, __builtin_ctz(lanes), axis, node.split);
+                    StackEntry& far = stack[top];
+                    std::uint32_t far_lanes = 0;
+                    lanes = one_origin_ && rays_.org[axis][__builtin_ctz(lanes)] != node.split
+                                ? split_lanes<Arch, true>(rays_, t, lanes, axis, node.split, lower_first, far.t, far_lanes)
+                                : split_lanes<Arch, false>(rays_, t, lanes, axis, node.split, lower_first, far.t, far_lanes);
+                    if (far_lanes != 0) {
+                        far.node = lower_first ? node.upper_child() : index + 1;
+                        far.lanes = far_lanes;
+                        ++top;
+                    }
+                    index = lower_first ? index + 1 : node.upper_child();
+                    if (lanes != 0) continue;
+                }
+                else {
+                    visit_leaf(node, lanes);
+                    if constexpr (kOcclusion)
+                        if (done_ == valid_) return;
+                }
+            }
+            // The next cell from the stack, for the lanes still looking.
+            for (;;) {
+                if (top == 0) return;
+                StackEntry& e = stack[--top];
+                lanes = e.lanes & ~done_;
+                if constexpr (!kOcclusion) lanes = lanes_before<Arch>(e.t, best_, lanes);
+                if (lanes == 0) continue;
+                index = e.node;
+                t = e.t;
+                break;
+            }
+        }
+    }
+
+    void visit_leaf(const KdNode& node, std::uint32_t lanes) {
+        const std::uint32_t count = node.triangle_count();
+        if (count == 0) return;
+        if constexpr (kCount) ++counters_->stream.group_leaves;
+        const std::uint32_t* ids = kd_.triangle_ids.data() + node.offset();
+        const Triangle* tris = kd_.leaf_triangles.data() + node.offset();
+        if (__builtin_popcount(lanes) >= kPacketTestLanes) {
+            if constexpr (kCount) counters_->triangle_tests += count;
+            packet_.active = lanes;
+            for (std::uint32_t j = 0; j < count; ++j) {
+                LaneHits h;
+                kernels_.packet_x1(packet_, tris[j], h);
+                take(h, ids[j]);
+                if constexpr (kOcclusion) {
+                    packet_.active &= ~h.mask;
+                    if (packet_.active == 0) break;
+                }
+            }
+            packet_.active = group_active();
+            return;
+        }
+        for (std::uint32_t m = lanes; m; m &= m - 1) {
+            const int i = __builtin_ctz(m);
+            if constexpr (kCount) counters_->triangle_tests += count;
+            WatertightRay w = lane_ray(i);
+            test_ray_in_batches(
+                kernels_, w, count, [&](std::uint32_t j) { return tris + j; },
+                [&](std::uint32_t j, int, const LaneHits& h) {
+                    if constexpr (kOcclusion) {
+                        if (h.mask) {
+                            done_ |= 1u << i;
+                            *occluded_ |= 1u << i;
+                            return false;
+                        }
+                    } else {
+                        for (std::uint32_t b = h.mask; b; b &= b - 1) {
+                            const int k = __builtin_ctz(b);
+                            if (h.t[k] < best_[i]) {
+                                record(i, h.t[k], ids[j + std::uint32_t(k)], h.u[k], h.v[k]);
+                                w.tfar = h.t[k];
+                            }
+                        }
+                    }
+                    return true;
+                });
+        }
+    }
+
+    // Hits of a 16-ray test of triangle `id`.
+    void take(const LaneHits& h, std::uint32_t id) {
+        const std::uint32_t mask = h.mask;
+        if constexpr (kOcclusion) {
+            done_ |= mask;
+            *occluded_ |= mask;
+        } else {
+            for (std::uint32_t b = mask; b; b &= b - 1) {
+                const int i = __builtin_ctz(b);
+                if (h.t[i] < best_[i]) record(i, h.t[i], id, h.u[i], h.v[i]);
+            }
+        }
+    }
+
+    void record(int i, float t, std::uint32_t id, float u, float v) {
+        best_[i] = t;
+        packet_.tfar[i] = t;
+        hits_->set_hit(i, Hit{t, id, u, v});
+    }
+
+    // Lane i's set-up for the single-ray kernels, made on its first use (tfar: its closest hit).
+    WatertightRay lane_ray(int i) {
+        if (!((made_ >> i) & 1u)) {
+            wrays_[i] = group_lane_ray(group_.ray(i));
+            made_ |= 1u << i;
+        }
+        WatertightRay w = wrays_[i];
+        w.tfar = best_[i];
+        return w;
+    }
+
+    std::uint32_t group_active() const { return valid_ & ~done_; }
+
+    const KdTree::Impl& kd_;
+    const Packet16& group_;
+    PacketHits16* hits_;
+    std::uint32_t* occluded_;
+    QueryCounters* counters_;
+    const TriangleKernels& kernels_;
+    GroupRays rays_{};
+    WatertightPacket16 packet_;
+    alignas(64) float best_[16] = {};
+    std::uint32_t done_ = 0;
+    std::uint32_t valid_ = 0;
+    bool one_origin_ = false;  // every valid lane starts at one point (bit for bit)
+    WatertightRay wrays_[16];
+    std::uint32_t made_ = 0;  // lanes whose wrays_ entry is made
+};
+
+}  // namespace group_detail
+
+template <class Arch>
+struct GroupLanes {
+    template <bool kOcclusion, bool kCount>
+    static void trace(const KdTree::Impl& kd, const Packet16& group, PacketHits16* hits, std::uint32_t* occluded,
+                      QueryCounters* counters) {
+        group_detail::GroupTrace<Arch, kOcclusion, kCount>(kd, group, hits, occluded, counters).run();
+    }
+    static constexpr GroupKernels table(Isa isa) {
+        return GroupKernels{isa, {{trace<false, false>, trace<false, true>}, {trace<true, false>, trace<true, true>}}};
+    }
+};
+
+}  // namespace beamtrace::stream
