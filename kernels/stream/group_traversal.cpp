@@ -3,9 +3,7 @@
 // library's baseline.
 #include "stream/group_traversal.hpp"
 
-#include "common/ray_validity.hpp"
 #include "common/triangle_kernels.hpp"
-#include "kdtree/ray_traversal.hpp"
 
 template <>
 const beamtrace::stream::GroupKernels& beamtrace::simd::table<beamtrace::stream::GroupKernels, beamtrace::Isa::scalar>() {
@@ -13,13 +11,6 @@ const beamtrace::stream::GroupKernels& beamtrace::simd::table<beamtrace::stream:
 }
 
 namespace beamtrace::stream {
-
-bool group_lane_start(const KdTree::Impl& kd, const Ray& r, float inv[3], float& tmin, float& tmax) {
-    if (!describes_segment(r)) return false;
-    const Float3 i{1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z};
-    inv[0] = i.x, inv[1] = i.y, inv[2] = i.z;
-    return kdtree::clip_to_box(r, i, kd.bounds, tmin, tmax);
-}
 
 WatertightRay group_lane_ray(const Ray& r) { return make_watertight_ray(r); }
 

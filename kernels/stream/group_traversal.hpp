@@ -30,12 +30,9 @@ template <bool kOcclusion, bool kCount>
 void trace_group(const KdTree::Impl& kd, const Packet16& group, PacketHits16* hits, std::uint32_t* occluded,
                  QueryCounters* counters);
 
-// A lane's start, for the kernels below: false when the ray describes no segment or misses the
-// tree's box; else its reciprocal direction and its interval clipped to the box. And a lane's set-up
-// for the single-ray triangle kernels. Compiled once, for the library's baseline: the per-ISA units
-// that include group_traversal_impl.hpp must not compile copies of these inline functions of their
-// own (simd/isa_unit.hpp).
-bool group_lane_start(const KdTree::Impl& kd, const Ray& r, float inv[3], float& tmin, float& tmax);
+// A lane's set-up for the single-ray triangle kernels, for the kernels below. Compiled once, for the
+// library's baseline: the per-ISA units that include group_traversal_impl.hpp must not compile
+// copies of make_watertight_ray (an inline function) of their own (simd/isa_unit.hpp).
 WatertightRay group_lane_ray(const Ray& r);
 
 // The traversal at one instruction set's width (group_traversal_impl.hpp): trace[occlusion][count].

@@ -19,8 +19,8 @@
 namespace beamtrace::stream {
 
 // Everything here is a template of the unit's Arch (no inline function of external linkage compiled
-// for a wider instruction set can be linked into a narrower unit); the lane set-up comes from
-// group_lane_start and group_lane_ray, compiled once.
+// for a wider instruction set can be linked into a narrower unit); a lane's single-ray set-up comes
+// from group_lane_ray, compiled once.
 namespace group_detail {
 
 
@@ -140,26 +140,11 @@ public:
         else
             for (int i = 0; i < 16; ++i) hits_->set_hit(i, Hit{});
         Intervals t;
-        std::uint32_t lanes = 0;
         for (int k = 0; k < 3; ++k) {
             rays_.org[k] = k == 0 ? group_.org_x : k == 1 ? group_.org_y : group_.org_z;
             rays_.dir[k] = k == 0 ? group_.dir_x : k == 1 ? group_.dir_y : group_.dir_z;
         }
-        for (std::uint32_t m = group_.active & 0xFFFFu; m; m &= m - 1) {
-            const int i = __builtin_ctz(m);
-            const Ray r = group_.ray(i);
-            best_[i] = r.tfar;
-            float inv[3];
-            if (!group_lane_start(kd_, r, inv, t.tmin[i], t.tmax[i])) continue;
-            for (int k = 0; k < 3; ++k) rays_.inv[k][i] = inv[k];
-            lanes |= 1u << i;
-        }
-        for (std::uint32_t m = ~lanes & 0xFFFFu; m; m &= m - 1) {  // lanes out: harmless values
-            const int i = __builtin_ctz(m);
-            t.tmin[i] = t.tmax[i] = 0.0f;
-            best_[i] = 0.0f;
-            for (int k = 0; k < 3; ++k) rays_.inv[k][i] = 1.0f;
-        }
+        const std::uint32_t lanes = start_lanes(t);
         if (lanes == 0) return;
         valid_ = lanes;
         Packet16 valid = group_;
@@ -170,6 +155,54 @@ public:
     }
 
 private:
+    // The lanes that start: active, describing a segment (describes_segment) and meeting the tree's box
+    // (kdtree::clip_to_box, their intervals into t), W lanes a step with the scalar code's operations
+    // lane by lane; every other lane gets harmless values (an empty interval at 0, closest hit 0,
+    // reciprocals 1).
+    std::uint32_t start_lanes(Intervals& t) {
+        using B = xsimd::batch<float, Arch>;
+        using M = xsimd::batch_bool<float, Arch>;
+        constexpr int W = int(B::size);
+        const B zero(0.0f), one(1.0f), slack(1.0f / 1048576.0f);
+        const Box& box = kd_.bounds;
+        const float* org[3] = {group_.org_x, group_.org_y, group_.org_z};
+        const float* dir[3] = {group_.dir_x, group_.dir_y, group_.dir_z};
+        std::uint32_t lanes = 0;
+        for (int base = 0; base < 16; base += W) {
+            const B o[3] = {B::load_unaligned(org[0] + base), B::load_unaligned(org[1] + base),
+                            B::load_unaligned(org[2] + base)};
+            const B d[3] = {B::load_unaligned(dir[0] + base), B::load_unaligned(dir[1] + base),
+                            B::load_unaligned(dir[2] + base)};
+            const B tnear = B::load_unaligned(group_.tnear + base), tfar = B::load_unaligned(group_.tfar + base);
+            // describes_segment: x - x is 0 for finite x, NaN otherwise.
+            const B finite = (((o[0] - o[0]) + (o[1] - o[1])) + ((o[2] - o[2]) + (d[0] - d[0]))) +
+                             ((d[1] - d[1]) + (d[2] - d[2])) + (tnear - tnear);
+            const M moves = (d[0] != zero) | (d[1] != zero) | (d[2] != zero);
+            M start = simd::lanes_on<Arch>(group_.active >> base) & (finite == zero) & moves & (tnear <= tfar);
+            B tmin = tnear, tmax = tfar, inv[3];
+            for (int k = 0; k < 3; ++k) {
+                inv[k] = one / d[k];
+                const B lower(box.lower[k]), upper(box.upper[k]);
+                const M flat = d[k] == zero;  // in the slab or out
+                start = start & ~(flat & ((o[k] < lower) | (o[k] > upper)));
+                const B t0 = (lower - o[k]) * inv[k], t1 = (upper - o[k]) * inv[k];
+                const M swap = t0 > t1;
+                B near = xsimd::select(swap, t1, t0), far = xsimd::select(swap, t0, t1);
+                near = near - xsimd::abs(near) * slack;
+                far = far + xsimd::abs(far) * slack;
+                tmin = xsimd::select(flat, tmin, xsimd::select(near > tmin, near, tmin));
+                tmax = xsimd::select(flat, tmax, xsimd::select(far < tmax, far, tmax));
+            }
+            start = start & (tmin <= tmax);
+            xsimd::select(start, tmin, zero).store_aligned(t.tmin + base);
+            xsimd::select(start, tmax, zero).store_aligned(t.tmax + base);
+            xsimd::select(start, tfar, zero).store_aligned(best_ + base);
+            for (int k = 0; k < 3; ++k) xsimd::select(start, inv[k], one).store_aligned(rays_.inv[k] + base);
+            lanes |= simd::lane_bits<Arch>(start) << base;
+        }
+        return lanes;
+    }
+
     void traverse(std::uint32_t lanes, Intervals& t) {
         const KdNode* nodes = kd_.nodes.data();
         StackEntry stack[kStackSize];
