@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <immintrin.h>
+
 #include <tbb/task_arena.h>
 
 #include "beamtrace/error.hpp"
@@ -98,11 +100,31 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
     in_arena(options.threads, [&] { stream::cut_groups(out.sorted_keys, s.min_group_rays, out.groups, options.threads); });
 }
 
-// The rays of a group as a packet (lanes 0 .. count).
+// The rays of a group as a packet (lanes 0 .. count; the others the ray (0, 0, 0) + t (0, 0, 1),
+// t in [0, 0]): four rays at a time, each ray's two halves (origin and tnear, direction and tfar)
+// transposed into the packet's rows.
 Packet16 packet_of(const Ray* rays, std::uint32_t count) {
+    static_assert(sizeof(Ray) == 8 * sizeof(float));
+    alignas(16) static constexpr float kUnused[8] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
     Packet16 p;
-    for (std::uint32_t i = 0; i < count; ++i) p.set_ray(int(i), rays[i]);
-    for (std::uint32_t i = count; i < 16; ++i) p.set_ray(int(i), Ray{{0, 0, 0}, 0.0f, {0, 0, 1}, 0.0f});
+    for (std::uint32_t b = 0; b < 16; b += 4) {
+        __m128 o[4], d[4];
+        for (std::uint32_t j = 0; j < 4; ++j) {
+            const float* r = b + j < count ? reinterpret_cast<const float*>(rays + b + j) : kUnused;
+            o[j] = _mm_loadu_ps(r);
+            d[j] = _mm_loadu_ps(r + 4);
+        }
+        _MM_TRANSPOSE4_PS(o[0], o[1], o[2], o[3]);
+        _MM_TRANSPOSE4_PS(d[0], d[1], d[2], d[3]);
+        _mm_store_ps(p.org_x + b, o[0]);
+        _mm_store_ps(p.org_y + b, o[1]);
+        _mm_store_ps(p.org_z + b, o[2]);
+        _mm_store_ps(p.tnear + b, o[3]);
+        _mm_store_ps(p.dir_x + b, d[0]);
+        _mm_store_ps(p.dir_y + b, d[1]);
+        _mm_store_ps(p.dir_z + b, d[2]);
+        _mm_store_ps(p.tfar + b, d[3]);
+    }
     p.active = count >= 16 ? 0xFFFFu : (1u << count) - 1u;
     return p;
 }
