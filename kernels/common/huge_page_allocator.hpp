@@ -3,7 +3,7 @@
 // buffer of at least kHugePageMinBytes is aligned to 2 MiB and marked for transparent huge pages
 // (madvise(MADV_HUGEPAGE), which Linux's default "madvise" setting honours) before anything touches
 // it. Buffers written or read at random places over hundreds of megabytes then miss the TLB far less
-// often (docs/streams.md, "Huge pages for the sort's buffers"). Smaller buffers come from operator new.
+// often (docs/streams.md, "Sorting the rays themselves"). Smaller buffers come from operator new.
 #include <cstddef>
 #include <cstdlib>
 #include <new>

@@ -29,8 +29,16 @@ constexpr std::size_t kStreamingRays = std::size_t{1} << 20;
 using Histogram = std::array<std::uint32_t, std::size_t{1} << kDigitBits>;
 
 // The per-thread words of one bucket: (the words' value below the top digit, position in the bucket).
+// Kept from bucket to bucket and call to call, up to kKeptWords of them (16 MB): a larger bucket (a
+// stream whose keys crowd into one top digit) gets them for its own sort only.
+constexpr std::size_t kKeptWords = std::size_t{1} << 20;
 struct BucketWords {
     std::vector<std::uint64_t> a, b;
+    void trim() {
+        if (a.capacity() <= kKeptWords) return;
+        a = {};
+        b = {};
+    }
 };
 
 class BucketSort {
@@ -67,6 +75,7 @@ public:
                 w = least_digit_first(w, words.b.data(), m, pos_bits, top, any ^ all);
         }
         write(w, begin, m, (std::uint64_t{1} << pos_bits) - 1);
+        words.trim();
     }
 
 private:
