@@ -4,9 +4,10 @@
 // unit is compiled for (and only that one: a unit compiled with -mavx2 must never provide the code a
 // narrower unit links to). Included only by the per-ISA units.
 //
-// Mask operators: xsimd 8.1 (Debian 12) computes an AVX-512 batch_bool ^ batch_bool as |; write an
-// xor of masks as (a & ~b) | (~a & b) (stream/group_traversal_impl.hpp). &, | and ~ are right on
-// every width.
+// Mask operators: xsimd 8.1 (Debian 12) computes an AVX-512 batch_bool ^ batch_bool as |, and its
+// SSE and AVX batch_bool != compares the masks' bit patterns as floats (all-ones is a NaN: always
+// true); write an xor of masks as (a & ~b) | (~a & b) (stream/group_traversal_impl.hpp). &, | and ~
+// are right on every width.
 #include <cstdint>
 
 #include <immintrin.h>

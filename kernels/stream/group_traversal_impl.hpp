@@ -50,7 +50,7 @@ struct GroupRays {
 // kOneOrigin: every lane starts at lane `lead`'s origin, which does not lie in the plane (the
 // distance to the plane and the side are then the same for all lanes: computed once).
 template <class Arch, bool kOneOrigin>
-std::uint32_t split_lanes(const GroupRays& g, Intervals& t, std::uint32_t lanes, int axis, float split_at,
+[[gnu::always_inline]] inline std::uint32_t split_lanes(const GroupRays& g, Intervals& t, std::uint32_t lanes, int axis, float split_at,
                           bool lower_first, Intervals& far, std::uint32_t& far_lanes) {
     using B = xsimd::batch<float, Arch>;
     using M = xsimd::batch_bool<float, Arch>;
@@ -79,7 +79,8 @@ std::uint32_t split_lanes(const GroupRays& g, Intervals& t, std::uint32_t lanes,
             tp = (split - o) * B::load_aligned(g.inv[axis] + base);
             lower_side = (o < split) | ((o == split) & (d > zero));
         }
-        // lower_side xor behind, without ^: xsimd 8.1's AVX-512 batch_bool ^ computes |.
+        // lower_side xor behind, without ^ or != (xsimd 8.1's AVX-512 batch_bool ^ computes |, and
+        // its SSE and AVX != compares the masks as floats, NaN patterns: always true).
         const M behind = tp < zero;
         const M first_lower = (lower_side & ~behind) | (~lower_side & behind);
         const M second_lower = ~first_lower;
