@@ -57,7 +57,7 @@ struct MlrtaExperimental {
     // leaf still tested packet by packet. 1 is the paper's (4x4 packets). Beyond the paper
     // (docs/mlrta.md, "Packets traced together"): tiles of one packet are traced alone, so it pays
     // with a minimum tile of at least xp_packets packets (MlrtaSettings::min_tile >= 4 *
-    // xp_packets; the default 16 with 4).
+    // xp_packets; the default 32 with 4).
     int xp_packets = 4;
 };
 

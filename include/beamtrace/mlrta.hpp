@@ -20,8 +20,9 @@ namespace beamtrace {
 struct MlrtaSettings {
     int initial_tile = 128;  // ITS, pixels (a multiple of 4)
     int split_factor = 16;   // SF: 4 (2x2) or 16 (4x4) sub-tiles
-    int min_tile = 16;       // MTS, pixels (a multiple of 4): tiles this small go to XP search
-                             // (the paper's 4; 16 lets blocks of 4x4 packets go together, xp_packets)
+    int min_tile = 32;       // MTS, pixels (a multiple of 4): tiles this small go to XP search
+                             // (the paper's 4; 16 and more let blocks of 4x4 packets go together,
+                             // xp_packets; 32 measured fastest: docs/mlrta.md)
     // Choices that are not the paper's, or between the paper's method and a variant (measured in
     // docs/mlrta.md; experimental.hpp).
     MlrtaExperimental experimental;
