@@ -11,6 +11,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "common/ray_batches.hpp"
+#include "common/ray_validity_impl.hpp"
 #include "common/triangle_kernels.hpp"
 #include "common/watertight_packet_impl.hpp"
 #include "simd/lane_bits.hpp"
@@ -22,7 +23,6 @@ namespace beamtrace::stream {
 // for a wider instruction set can be linked into a narrower unit); a lane's single-ray set-up comes
 // from group_lane_ray, compiled once.
 namespace group_detail {
-
 
 constexpr int kStackSize = 64;
 
@@ -50,8 +50,9 @@ struct GroupRays {
 // kOneOrigin: every lane starts at lane `lead`'s origin, which does not lie in the plane (the
 // distance to the plane and the side are then the same for all lanes: computed once).
 template <class Arch, bool kOneOrigin>
-[[gnu::always_inline]] inline std::uint32_t split_lanes(const GroupRays& g, Intervals& t, std::uint32_t lanes, int axis, float split_at,
-                          bool lower_first, Intervals& far, std::uint32_t& far_lanes) {
+[[gnu::always_inline]] inline std::uint32_t split_lanes(const GroupRays& g, Intervals& t, std::uint32_t lanes,
+                                                       int axis, float split_at, bool lower_first, Intervals& far,
+                                                       std::uint32_t& far_lanes) {
     using B = xsimd::batch<float, Arch>;
     using M = xsimd::batch_bool<float, Arch>;
     constexpr int W = int(B::size);
@@ -166,20 +167,15 @@ private:
         constexpr int W = int(B::size);
         const B zero(0.0f), one(1.0f), slack(1.0f / 1048576.0f);
         const Box& box = kd_.bounds;
-        const float* org[3] = {group_.org_x, group_.org_y, group_.org_z};
-        const float* dir[3] = {group_.dir_x, group_.dir_y, group_.dir_z};
         std::uint32_t lanes = 0;
         for (int base = 0; base < 16; base += W) {
-            const B o[3] = {B::load_unaligned(org[0] + base), B::load_unaligned(org[1] + base),
-                            B::load_unaligned(org[2] + base)};
-            const B d[3] = {B::load_unaligned(dir[0] + base), B::load_unaligned(dir[1] + base),
-                            B::load_unaligned(dir[2] + base)};
+            const B o[3] = {B::load_unaligned(rays_.org[0] + base), B::load_unaligned(rays_.org[1] + base),
+                            B::load_unaligned(rays_.org[2] + base)};
+            const B d[3] = {B::load_unaligned(rays_.dir[0] + base), B::load_unaligned(rays_.dir[1] + base),
+                            B::load_unaligned(rays_.dir[2] + base)};
             const B tnear = B::load_unaligned(group_.tnear + base), tfar = B::load_unaligned(group_.tfar + base);
-            // describes_segment: x - x is 0 for finite x, NaN otherwise.
-            const B finite = (((o[0] - o[0]) + (o[1] - o[1])) + ((o[2] - o[2]) + (d[0] - d[0]))) +
-                             ((d[1] - d[1]) + (d[2] - d[2])) + (tnear - tnear);
-            const M moves = (d[0] != zero) | (d[1] != zero) | (d[2] != zero);
-            M start = simd::lanes_on<Arch>(group_.active >> base) & (finite == zero) & moves & (tnear <= tfar);
+            M start = simd::lanes_on<Arch>(group_.active >> base) &
+                      simd::describes_segment_lanes<Arch>(o[0], o[1], o[2], d[0], d[1], d[2], tnear, tfar);
             B tmin = tnear, tmax = tfar, inv[3];
             for (int k = 0; k < 3; ++k) {
                 inv[k] = one / d[k];

@@ -9,6 +9,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "common/morton.hpp"
+#include "common/ray_validity_impl.hpp"
 #include "stream/ray_keys.hpp"
 
 namespace beamtrace::stream {
@@ -56,9 +57,7 @@ struct KeyLanes {
             const BF tn = BF::load_aligned(c[3]);
             const BF dx = BF::load_aligned(c[4]), dy = BF::load_aligned(c[5]), dz = BF::load_aligned(c[6]);
             const BF tf = BF::load_aligned(c[7]);
-            // describes_segment: finite, moving, tnear <= tfar.
-            const BF finite = ((ox - ox) + (oy - oy)) + ((oz - oz) + (dx - dx)) + ((dy - dy) + (dz - dz)) + (tn - tn);
-            const auto valid = (finite == zero) & ((dx != zero) | (dy != zero) | (dz != zero)) & (tn <= tf);
+            const auto valid = simd::describes_segment_lanes<Arch>(ox, oy, oz, dx, dy, dz, tn, tf);
             BI key = BI(std::int32_t(kNoSegmentKey));
             auto cells = valid;  // lanes keyed by their origin's cell: no shared point takes them
             if (in.point_count > 0) {

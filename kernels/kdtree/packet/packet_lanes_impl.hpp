@@ -10,6 +10,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "common/ray_validity_impl.hpp"
 #include "kdtree/packet/packet_lanes.hpp"
 #include "simd/lane_bits.hpp"
 #include "simd/lane_folds.hpp"
@@ -35,10 +36,8 @@ void packet_lanes(const Packet16& p, PacketLanes& l) {
         const B dx = B::load_unaligned(p.dir_x + base), dy = B::load_unaligned(p.dir_y + base),
                 dz = B::load_unaligned(p.dir_z + base);
         const B tnear = B::load_unaligned(p.tnear + base), tfar = B::load_unaligned(p.tfar + base);
-        // describes_segment: the same sum, in the same order.
-        const B finite = ((ox - ox) + (oy - oy)) + ((oz - oz) + (dx - dx)) + ((dy - dy) + (dz - dz)) + (tnear - tnear);
-        const auto moves = (dx != zero) | (dy != zero) | (dz != zero);
-        segment |= lane_bits<Arch>((finite == zero) & moves & (tnear <= tfar)) << base;
+        segment |= lane_bits<Arch>(beamtrace::simd::describes_segment_lanes<Arch>(ox, oy, oz, dx, dy, dz, tnear, tfar))
+                   << base;
         const B speed = xsimd::sqrt(dx * dx + dy * dy + dz * dz), inv = one / speed;
         speed.store_aligned(l.speed + base);
         (dx * inv).store_aligned(l.unit[0] + base);
