@@ -1,13 +1,14 @@
 #pragma once
-// The library's one radix sort: stable, least significant digit first, 11-bit digits. One pass
-// counts every digit's histogram (and so finds the digits every record shares: their passes are
-// skipped). Histograms and scatters by part on `parts` threads of the caller's TBB arena. The stream
+// The library's one radix sort: stable, least significant digit first, digits of at most 11 bits.
+// One pass counts every digit's histogram (and so finds the digits every record shares: their passes
+// are skipped). Histograms and scatters by part on `parts` threads of the caller's TBB arena. The stream
 // tracer sorts (key, index) words with it, CRSH (key, ray) pairs, the kd build split events.
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -42,7 +43,13 @@ void radix_sort(std::vector<Record>& records, std::vector<Record>& scratch, int 
         return;
     }
     parts = std::max(1, std::min(parts, int(n / 65536) + 1));
+    key_bits = std::clamp(key_bits, 0, 64);
+    // Digits of near-equal width, at most kDigitBits each: 13 key bits take two 7-bit digits (128
+    // buckets to clear and add up per pass), not 11 + 2 (2,048 each), which matters for small inputs.
     const int digits = std::min(kMaxDigits, (key_bits + kDigitBits - 1) / kDigitBits);
+    const int width = digits == 0 ? kDigitBits : (key_bits + digits - 1) / digits;
+    const std::size_t buckets = std::size_t{1} << std::min(width, kDigitBits);
+    const std::uint64_t digit_mask = buckets - 1;
     const auto range = [&](int p) {
         return std::pair{n * std::size_t(p) / std::size_t(parts), n * std::size_t(p + 1) / std::size_t(parts)};
     };
@@ -51,40 +58,41 @@ void radix_sort(std::vector<Record>& records, std::vector<Record>& scratch, int 
         tbb::parallel_for(0, parts, [&](int p) { f(p); });
     };
     // count[p][j]: part p's histogram of digit j; every digit counted in one pass over the input.
-    std::vector<std::array<Histogram, kMaxDigits>> count(static_cast<std::size_t>(parts));
+    // Left uninitialised (a digit's histogram is cleared before it is counted): the stream sort calls
+    // this for thousands of small buckets, and zeroing 48 KB each time would cost more than sorting.
+    const std::unique_ptr<std::array<Histogram, kMaxDigits>[]> count(
+        new std::array<Histogram, kMaxDigits>[static_cast<std::size_t>(parts)]);
     for_parts([&](int p) {
         auto& c = count[std::size_t(p)];
-        for (int j = 0; j < digits; ++j) c[std::size_t(j)].fill(0);
+        for (int j = 0; j < digits; ++j) std::fill_n(c[std::size_t(j)].begin(), buckets, 0u);
         const auto [begin, end] = range(p);
         for (std::size_t i = begin; i < end; ++i) {
             const std::uint64_t k = key(records[i]);
-            for (int j = 0; j < digits; ++j) ++c[std::size_t(j)][(k >> (j * kDigitBits)) & (kBuckets - 1)];
+            for (int j = 0; j < digits; ++j) ++c[std::size_t(j)][(k >> (j * width)) & digit_mask];
         }
     });
     scratch.resize(n);
-    std::vector<std::array<std::size_t, kBuckets>> at(static_cast<std::size_t>(parts));
+    const std::unique_ptr<std::array<std::size_t, kBuckets>[]> at(
+        new std::array<std::size_t, kBuckets>[static_cast<std::size_t>(parts)]);
     bool counted = true;  // count[.][j] holds the parts' records as they are now
     for (int j = 0; j < digits; ++j) {
-        // A digit whose one bucket holds every record changes nothing: its pass is skipped.
-        bool one_bucket = false;
-        for (std::size_t d = 0; d < std::size_t(kBuckets) && !one_bucket; ++d) {
-            std::size_t total = 0;
-            for (const auto& c : count) total += c[std::size_t(j)][d];
-            one_bucket = total == n;
-        }
-        if (one_bucket) continue;
-        const int shift = j * kDigitBits;
-        const auto digit = [&](const Record& r) { return std::size_t((key(r) >> shift) & (kBuckets - 1)); };
+        const int shift = j * width;
+        const auto digit = [&](const Record& r) { return std::size_t((key(r) >> shift) & digit_mask); };
+        // A digit whose one bucket holds every record changes nothing: its pass is skipped. (No pass
+        // moves a record to another bucket of a digit all records share: the first record's tells.)
+        std::size_t first_bucket = 0;
+        for (int p = 0; p < parts; ++p) first_bucket += count[std::size_t(p)][std::size_t(j)][digit(records[0])];
+        if (first_bucket == n) continue;
         if (!counted)  // the parts hold other records now: count them again
             for_parts([&](int p) {
                 Histogram& c = count[std::size_t(p)][std::size_t(j)];
-                c.fill(0);
+                std::fill_n(c.begin(), buckets, 0u);
                 const auto [begin, end] = range(p);
                 for (std::size_t i = begin; i < end; ++i) ++c[digit(records[i])];
             });
         // Offsets: bucket by bucket, part by part (stable).
         std::size_t sum = 0;
-        for (std::size_t d = 0; d < std::size_t(kBuckets); ++d)
+        for (std::size_t d = 0; d < buckets; ++d)
             for (std::size_t p = 0; p < std::size_t(parts); ++p) {
                 at[p][d] = sum;
                 sum += count[p][std::size_t(j)][d];

@@ -4,13 +4,13 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cstring>
 #include <string>
 
 #include <immintrin.h>
 #include <tbb/parallel_for.h>
 
 #include "beamtrace/error.hpp"
+#include "common/radix_sort.hpp"
 #include "stream/radix_sort.hpp"
 
 namespace beamtrace::stream {
@@ -21,12 +21,9 @@ namespace {
 // where the surfaces are, fill 4,585 of them), fewer for smaller streams (about 256 rays a bucket).
 constexpr int kMaxTopBits = 16;
 int top_bits(std::size_t n) { return std::clamp(int(std::bit_width(n)) - 8, 1, kMaxTopBits); }
-constexpr int kDigitBits = 11;  // a bucket's digits (at most)
 constexpr std::size_t kSmallBucket = 48;  // sorted by std::sort
 // Streams of at least this many rays are written with streaming stores (they exceed the caches).
 constexpr std::size_t kStreamingRays = std::size_t{1} << 20;
-
-using Histogram = std::array<std::uint32_t, std::size_t{1} << kDigitBits>;
 
 // The per-thread words of one bucket: (the words' value below the top digit, position in the bucket).
 // Kept from bucket to bucket and call to call, up to kKeptWords of them (16 MB): a larger bucket (a
@@ -58,7 +55,6 @@ public:
         const std::size_t m = end - begin;
         const int pos_bits = std::max(1, int(std::bit_width(m - 1)));
         words.a.resize(m);
-        words.b.resize(m);
         std::uint64_t* w = words.a.data();
         std::uint64_t any = 0, all = ~std::uint64_t{0};
         for (std::size_t j = 0; j < m; ++j) {
@@ -68,47 +64,17 @@ public:
             w[j] = (v << pos_bits) | j;  // positions ascend: equal values keep the input order
         }
         const int top = std::bit_width(any ^ all);
-        if (top > 0) {
-            if (m <= kSmallBucket)
-                std::sort(w, w + m);
-            else
-                w = least_digit_first(w, words.b.data(), m, pos_bits, top, any ^ all);
+        if (top > 0 && m <= kSmallBucket) {
+            std::sort(w, w + m);
+        } else if (top > 0) {  // by the value bits above the positions (the library's radix sort: stable)
+            radix_sort(words.a, words.b, top, [pos_bits](std::uint64_t x) { return x >> pos_bits; }, 1);
+            w = words.a.data();
         }
         write(w, begin, m, (std::uint64_t{1} << pos_bits) - 1);
         words.trim();
     }
 
 private:
-    // LSD radix sort of w[0, m) by the bits [pos_bits, pos_bits + top), digits of near-equal width;
-    // digits that no word varies in (`varying`, of the value) skipped. Returns where the words end.
-    static std::uint64_t* least_digit_first(std::uint64_t* w, std::uint64_t* spare, std::size_t m, int pos_bits,
-                                            int top, std::uint64_t varying) {
-        const int digits = (top + kDigitBits - 1) / kDigitBits;
-        const int width = (top + digits - 1) / digits;
-        const std::uint64_t digit_mask = (std::uint64_t{1} << width) - 1;
-        const std::size_t buckets = std::size_t{1} << width;
-        std::array<int, 64 / kDigitBits + 1> shifts{};
-        int passes = 0;
-        for (int j = 0; j < digits; ++j)
-            if ((varying >> (j * width)) & digit_mask) shifts[std::size_t(passes++)] = pos_bits + j * width;
-        std::array<Histogram, 64 / kDigitBits + 1> count;
-        for (int p = 0; p < passes; ++p) std::fill_n(count[std::size_t(p)].begin(), buckets, 0u);
-        for (std::size_t i = 0; i < m; ++i)
-            for (int p = 0; p < passes; ++p) ++count[std::size_t(p)][(w[i] >> shifts[std::size_t(p)]) & digit_mask];
-        Histogram at;
-        for (int p = 0; p < passes; ++p) {
-            std::uint32_t sum = 0;
-            for (std::size_t d = 0; d < buckets; ++d) {
-                at[d] = sum;
-                sum += count[std::size_t(p)][d];
-            }
-            const int shift = shifts[std::size_t(p)];
-            for (std::size_t i = 0; i < m; ++i) spare[at[(w[i] >> shift) & digit_mask]++] = w[i];
-            std::swap(w, spare);
-        }
-        return w;
-    }
-
     // The bucket's records in the words' order: rays, indices, keys.
     void write(const std::uint64_t* w, std::size_t begin, std::size_t m, std::uint64_t pos_mask) const {
         const SortRecord* from = records_ + begin;
