@@ -41,26 +41,13 @@ void sort_by_key(std::span<const std::uint32_t> keys, std::span<const std::uint3
 
 void gather_in_order(std::span<const Ray> rays, std::span<const std::uint32_t> order, std::size_t begin,
                      std::size_t end, std::span<Ray> out) {
-    static_assert(sizeof(Ray) == 32);
     // Streams of up to a million rays (32 MB) may stay in cache for the trace: plain stores.
-    constexpr std::size_t kStreamingRays = std::size_t{1} << 20;
-    if (rays.size() < kStreamingRays || reinterpret_cast<std::uintptr_t>(out.data()) % 16 != 0) {
-        for (std::size_t k = begin; k < end; ++k) {
-            if (k + kGatherAhead < end) __builtin_prefetch(&rays[order[k + kGatherAhead]]);
-            out[k] = rays[order[k]];
-        }
-        return;
-    }
-    // Streaming stores: the sorted rays are written once, beyond the caches, and a plain store would
-    // first read each line it overwrites.
+    const bool streaming = rays.size() >= kStreamingRays && reinterpret_cast<std::uintptr_t>(out.data()) % 16 == 0;
     for (std::size_t k = begin; k < end; ++k) {
         if (k + kGatherAhead < end) __builtin_prefetch(&rays[order[k + kGatherAhead]]);
-        const auto* from = reinterpret_cast<const float*>(&rays[order[k]]);  // 8 floats, no padding
-        auto* to = reinterpret_cast<float*>(&out[k]);
-        _mm_stream_ps(to, _mm_loadu_ps(from));
-        _mm_stream_ps(to + 4, _mm_loadu_ps(from + 4));
+        store_ray(&out[k], rays[order[k]], streaming);
     }
-    _mm_sfence();  // the streamed lines are seen by whichever thread reads them next
+    if (streaming) _mm_sfence();  // the streamed lines are seen by whichever thread reads them next
 }
 
 }  // namespace beamtrace::stream

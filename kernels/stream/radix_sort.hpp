@@ -11,6 +11,8 @@
 #include <span>
 #include <vector>
 
+#include <immintrin.h>
+
 #include "beamtrace/ray.hpp"
 #include "stream/ray_keys.hpp"
 
@@ -62,6 +64,23 @@ struct SortWords {
 // alone).
 void sort_by_key(std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
                  std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, int parts, SortBuffers& buffers);
+
+// Streams of at least this many rays (32 MB) are written out with streaming stores (store_ray): the
+// sorted rays are written once, beyond the caches, and a plain store would first read each line.
+inline constexpr std::size_t kStreamingRays = std::size_t{1} << 20;
+
+// *to = from, by streaming stores when `streaming` (to 16-byte aligned; an _mm_sfence after the last).
+inline void store_ray(Ray* to, const Ray& from, bool streaming) {
+    static_assert(sizeof(Ray) == 8 * sizeof(float));  // 8 floats, no padding
+    if (!streaming) {
+        *to = from;
+        return;
+    }
+    const auto* f = reinterpret_cast<const float*>(&from);
+    auto* t = reinterpret_cast<float*>(to);
+    _mm_stream_ps(t, _mm_loadu_ps(f));
+    _mm_stream_ps(t + 4, _mm_loadu_ps(f + 4));
+}
 
 // out[k] = rays[order[k]] for k in [begin, end): the rays in sorted order. The reads are random
 // over the whole stream, so each is asked for `kGatherAhead` rays before it is copied (their misses

@@ -22,8 +22,6 @@ namespace {
 constexpr int kMaxTopBits = 16;
 int top_bits(std::size_t n) { return std::clamp(int(std::bit_width(n)) - 8, 1, kMaxTopBits); }
 constexpr std::size_t kSmallBucket = 48;  // sorted by std::sort
-// Streams of at least this many rays are written with streaming stores (they exceed the caches).
-constexpr std::size_t kStreamingRays = std::size_t{1} << 20;
 
 // The per-thread words of one bucket: (the words' value below the top digit, position in the bucket).
 // Kept from bucket to bucket and call to call, up to kKeptWords of them (16 MB): a larger bucket (a
@@ -85,14 +83,7 @@ private:
             const SortRecord& r = from[w[k] & pos_mask];
             order[k] = layout_.index(r.word);
             keys[k] = SortWords::key(r.word);
-            if (streaming_) {
-                const auto* f = reinterpret_cast<const float*>(&r.ray);
-                auto* t = reinterpret_cast<float*>(rays + k);
-                _mm_stream_ps(t, _mm_loadu_ps(f));
-                _mm_stream_ps(t + 4, _mm_loadu_ps(f + 4));
-            } else {
-                rays[k] = r.ray;
-            }
+            store_ray(rays + k, r.ray, streaming_);
         }
     }
 
