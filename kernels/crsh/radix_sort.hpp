@@ -1,6 +1,6 @@
 #pragma once
 // The sort of CRSH's (key, ray index) pairs by the library's radix sort (common/radix_sort.hpp:
-// least significant digit first, 11-bit digits, stable, a pass whose digit is the same for every key
+// least significant digit first, digits of up to 11 bits, stable, a pass whose digit is the same for every key
 // skipped): the CPU stand-in for the paper's CUB radix sort; its chunk compression is not needed on
 // a CPU (docs/crsh.md).
 #include <cstdint>
