@@ -1,10 +1,11 @@
 #pragma once
 // The sorting step of the stream tracer: the rays' 32-bit keys with their indices sorted by the
-// library's radix sort (common/radix_sort.hpp: stable, digits of up to 11 bits, passes whose digit all keys
-// share skipped, on `parts` threads of the caller's TBB arena), in linear time. Rays keyed by their
-// origin's cell are sorted within their cell by a hash of their exact origin too, so that the rays of
-// one origin come out next to each other (but where two origins of a cell share a hash); then the
-// rays gathered into that order.
+// library's radix sort (common/radix_sort.hpp: stable, digits of up to 11 bits, passes whose digit
+// all keys share skipped, on `parts` threads of the caller's TBB arena), in linear time. Rays keyed
+// by their origin's cell are sorted within their cell by a hash of their exact origin too, so that
+// the rays of one origin come out next to each other (but where two origins of a cell share a hash);
+// then the rays gathered into that order. The tracer does both in one (ray_sort.hpp); these are its
+// reference and the sort of other callers.
 #include <algorithm>
 #include <bit>
 #include <cstdint>
