@@ -209,6 +209,7 @@ void bm_origin_group(benchmark::State& state, const std::string& name) {
     const double g = double(packets.size());
     state.counters["steps_per_group"] = double(counters.stream.group_steps) / g;
     state.counters["leaves_per_group"] = double(counters.stream.group_leaves) / g;
+    state.counters["unreached_planes_per_group"] = double(counters.stream.group_unreached_planes) / g;
     state.counters["tests_per_group"] = double(counters.triangle_tests) / g;
 }
 

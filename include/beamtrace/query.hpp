@@ -52,6 +52,7 @@ struct QueryCounters {
         std::uint64_t single_rays = 0;        // rays traced alone (no group)
         std::uint64_t group_steps = 0;        // inner nodes visited by origin groups
         std::uint64_t group_leaves = 0;       // leaves visited by origin groups
+        std::uint64_t group_unreached_planes = 0;  // inner nodes passed without a step: no lane's segment reaches the plane
         std::uint64_t sort_nanoseconds = 0;   // keys, sort, grouping and the answers' scatter, summed over calls
     } stream;
 
@@ -111,6 +112,7 @@ struct QueryCounters {
         stream.single_rays += o.stream.single_rays;
         stream.group_steps += o.stream.group_steps;
         stream.group_leaves += o.stream.group_leaves;
+        stream.group_unreached_planes += o.stream.group_unreached_planes;
         stream.sort_nanoseconds += o.stream.sort_nanoseconds;
         crsh.rays += o.crsh.rays;
         for (int l = 0; l < Crsh::kMaxLevels; ++l) {

@@ -5,6 +5,7 @@
 // counts bit for bit (GroupTraversal.EveryInstructionSetGivesTheSameAnswersBitForBit). Included only
 // by the per-ISA units (simd/kernels_<isa>.cpp), which put GroupLanes<Arch>::trace in their
 // GroupKernels tables.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -15,6 +16,7 @@
 #include "common/triangle_kernels.hpp"
 #include "common/watertight_packet_impl.hpp"
 #include "simd/lane_bits.hpp"
+#include "simd/lane_folds.hpp"
 #include "stream/group_traversal.hpp"
 
 namespace beamtrace::stream {
@@ -153,6 +155,7 @@ public:
         valid.active = lanes;
         simd_impl::make_watertight_packet<Arch>(valid, packet_);
         one_origin_ = packet_.same_origin;
+        if (one_origin_) make_reach(lanes, t);
         traverse(lanes, t);
     }
 
@@ -193,11 +196,45 @@ private:
             start = start & (tmin <= tmax);
             xsimd::select(start, tmin, zero).store_aligned(t.tmin + base);
             xsimd::select(start, tmax, zero).store_aligned(t.tmax + base);
-            xsimd::select(start, tfar, zero).store_aligned(best_ + base);
+            xsimd::select(start, B(kInfinity), zero).store_aligned(best_ + base);
             for (int k = 0; k < 3; ++k) xsimd::select(start, inv[k], one).store_aligned(rays_.inv[k] + base);
             lanes |= simd::lane_bits<Arch>(start) << base;
         }
         return lanes;
+    }
+
+    // With one origin: the box every valid lane's segment lies in (its interval after the clip to the
+    // tree's box), widened on each side by 2^-16 of its coordinates' size. The single-ray decision at
+    // a plane beyond it is, for every lane, the origin's child alone with its interval unchanged (the
+    // traversal's slack is 2^-20 of t, the plane distance's rounding a few 2^-24 of it; docs/streams.md,
+    // "Planes no lane reaches"), so traverse goes there without a step. Left at -inf / +inf (no plane
+    // skipped) for groups of several origins and for segments that are not finite.
+    void make_reach(std::uint32_t lanes, const Intervals& t) {
+        using B = xsimd::batch<float, Arch>;
+        using M = xsimd::batch_bool<float, Arch>;
+        constexpr int W = int(B::size);
+        constexpr std::uint32_t kBlock = (1u << W) - 1u;
+        const int lead = __builtin_ctz(lanes);
+        for (int k = 0; k < 3; ++k) {
+            const float o = rays_.org[k][lead];
+            const B ob(o), zero(0.0f);
+            simd::MinFold lo;
+            simd::MaxFold hi;
+            for (int base = 0; base < 16; base += W) {
+                if (((lanes >> base) & kBlock) == 0) continue;
+                const B d = B::load_unaligned(rays_.dir[k] + base);
+                const M on = simd::lanes_on<Arch>(lanes >> base), moves = ~(d == zero);
+                const B a = xsimd::select(moves, ob + B::load_aligned(t.tmin + base) * d, ob);
+                const B b = xsimd::select(moves, ob + B::load_aligned(t.tmax + base) * d, ob);
+                lo.add(xsimd::min(a, b), on);
+                hi.add(xsimd::max(a, b), on);
+            }
+            const float l = std::min(o, lo.result()), h = std::max(o, hi.result());
+            const float margin = (std::fabs(l) + std::fabs(h) + std::fabs(o)) * (1.0f / 65536.0f) + 1e-30f;
+            const bool finite = std::isfinite(l) && std::isfinite(h) && std::isfinite(margin);
+            reach_lo_[k] = finite ? l - margin : -INFINITY;
+            reach_hi_[k] = finite ? h + margin : INFINITY;
+        }
     }
 
     void traverse(std::uint32_t lanes, Intervals& t) {
@@ -209,10 +246,16 @@ private:
             if (lanes != 0) {
                 const KdNode& node = nodes[index];
                 if (!node.is_leaf()) {
+                    // A plane beyond every lane's segment: the origin's side, no step (make_reach).
+                    const int axis = node.axis();
+                    if (node.split > reach_hi_[axis] || node.split < reach_lo_[axis]) {
+                        if constexpr (kCount) ++counters_->stream.group_unreached_planes;
+                        index = node.split > reach_hi_[axis] ? index + 1 : node.upper_child();
+                        continue;
+                    }
                     if constexpr (kCount) ++counters_->stream.group_steps;
                     // Near: the child the leading lane meets first. The far child's lanes go on the
                     // stack (depth <= 60, KdBuildRules: it never overflows).
-                    const int axis = node.axis();
                     const bool lower_first = lower_first_for<Arch>(rays_, __builtin_ctz(lanes), axis, node.split);
                     StackEntry& far = stack[top];
                     std::uint32_t far_lanes = 0;
@@ -322,7 +365,7 @@ private:
             made_ |= 1u << i;
         }
         WatertightRay w = wrays_[i];
-        w.tfar = best_[i];
+        w.tfar = packet_.tfar[i];
         return w;
     }
 
@@ -336,10 +379,12 @@ private:
     const TriangleKernels& kernels_;
     GroupRays rays_{};
     WatertightPacket16 packet_;
-    alignas(64) float best_[16] = {};
+    alignas(64) float best_[16] = {};  // a lane's closest hit so far: +inf before its first (a hit at t = tfar counts)
     std::uint32_t done_ = 0;
     std::uint32_t valid_ = 0;
     bool one_origin_ = false;  // every valid lane starts at one point (bit for bit)
+    float reach_lo_[3] = {-INFINITY, -INFINITY, -INFINITY};  // make_reach
+    float reach_hi_[3] = {INFINITY, INFINITY, INFINITY};
     WatertightRay wrays_[16];
     std::uint32_t made_ = 0;  // lanes whose wrays_ entry is made
 };

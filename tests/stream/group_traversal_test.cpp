@@ -1,14 +1,16 @@
 // The masked group traversal answers every lane as the single-ray traversal does (its reference):
 // occlusion exactly, closest hits at the same distance bit for bit (the same triangle, or another at
 // exactly that distance), on scenes shaped to reach the kd-tree's special cases: one-origin groups
-// (what the stream tracer makes), scattered rays, rays inside split planes, inactive lanes and rays
-// that describe no segment.
+// (what the stream tracer makes), scattered rays, rays inside split planes, segments that end on (or
+// an ulp or a few around) the planes of their origin's path, inactive lanes and rays that describe no
+// segment.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "beamtrace/kdtree.hpp"
@@ -46,6 +48,13 @@ std::vector<Packet16> groups_of(const std::vector<Ray>& rays, unsigned seed) {
     return groups;
 }
 
+std::string describe(const Ray& r, const Hit& want, const Hit& got) {
+    char text[320];
+    std::snprintf(text, sizeof text, "ray org (%a, %a, %a) dir (%a, %a, %a) [%a, %a]: single ray t %a triangle %u, group t %a triangle %u",
+                  r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tnear, r.tfar, want.t, want.triangle, got.t, got.triangle);
+    return text;
+}
+
 void expect_single_ray_answers(const KdTree& tree, const std::vector<Packet16>& groups, const std::string& what) {
     const KdTree::Impl& kd = detail::Access::impl(tree);
     int compared = 0, hits = 0;
@@ -68,11 +77,11 @@ void expect_single_ray_answers(const KdTree& tree, const std::vector<Packet16>& 
             const bool want_occluded = on && kdtree::occluded_one(kd, r);
             const Hit h = got.hit(i);
             ASSERT_EQ(((occluded >> i) & 1u) != 0, want_occluded) << what << " group " << g << " lane " << i;
-            ASSERT_EQ(h.hit(), want.hit()) << what << " group " << g << " lane " << i;
+            ASSERT_EQ(h.hit(), want.hit()) << what << " group " << g << " lane " << i << ": " << describe(r, want, h);
             ASSERT_EQ(counted.hit(i).triangle, h.triangle);
             if (!want.hit()) continue;
             ++hits;
-            ASSERT_EQ(h.t, want.t) << what << " group " << g << " lane " << i;
+            ASSERT_EQ(h.t, want.t) << what << " group " << g << " lane " << i << ": " << describe(r, want, h);
             if (h.triangle == want.triangle) {
                 EXPECT_EQ(h.u, want.u);
                 EXPECT_EQ(h.v, want.v);
@@ -105,6 +114,57 @@ TEST(StreamGroupTraversal, AnswersAsTheSingleRayTraversalOnAPlane) {
     const KdTree tree = KdTree::build(scene);
     expect_single_ray_answers(tree, groups_of(test::axis_rays(scene, 2000, 9), 10), "plane, axis rays");
     expect_single_ray_answers(tree, groups_of(test::random_rays(scene.bounds(), 2000, 11), 12), "plane");
+}
+
+// One-origin groups whose segments end on, just before or just beyond the split planes of their
+// origin's path through the tree (the planes the group passes without a step when no lane reaches
+// them: GroupTrace::make_reach): lane i ends k ulps of t around a plane of the path, k in -4..4.
+std::vector<Packet16> groups_ending_at_planes(const KdTree& tree, int count, unsigned seed) {
+    const KdTree::Impl& kd = detail::Access::impl(tree);
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f), spread(-1.0f, 1.0f);
+    const Box& box = kd.bounds;
+    std::vector<Packet16> groups;
+    while (int(groups.size()) < count) {
+        Float3 o;
+        for (int k = 0; k < 3; ++k) o[k] = box.lower[k] + (box.upper[k] - box.lower[k]) * (0.05f + 0.9f * unit(random));
+        std::vector<std::pair<int, float>> planes;
+        for (std::uint32_t index = 0; !kd.nodes[index].is_leaf();) {
+            const KdNode& node = kd.nodes[index];
+            if (o[node.axis()] != node.split) planes.emplace_back(node.axis(), node.split);
+            index = o[node.axis()] < node.split ? index + 1 : node.upper_child();
+        }
+        if (planes.empty()) continue;
+        Packet16 p;
+        for (int i = 0; i < 16; ++i) {
+            const auto [axis, split] = planes[random() % planes.size()];
+            Float3 d{spread(random), spread(random), spread(random)};
+            d[axis] = (split > o[axis] ? 1.0f : -1.0f) * (0.2f + unit(random));
+            float t = (split - o[axis]) / d[axis];
+            for (int k = int(random() % 9) - 4; k != 0; k += k > 0 ? -1 : 1)
+                t = std::nextafter(t, k > 0 ? INFINITY : 0.0f);
+            p.set_ray(i, Ray{o, 0.0f, d, t});
+        }
+        p.active = groups.size() % 3 == 2 ? (random() & 0xFFFFu) | 1u : 0xFFFFu;
+        groups.push_back(p);
+    }
+    return groups;
+}
+
+TEST(StreamGroupTraversal, SegmentsEndingAtTheOriginsPlanesAnswerAsTheSingleRayTraversal) {
+    const Scene soup = test::random_soup(3000, 41), boxes = test::stacked_boxes(60, 4);
+    for (const Scene* scene : {&soup, &boxes}) {
+        const KdTree tree = KdTree::build(*scene);
+        const std::vector<Packet16> groups = groups_ending_at_planes(tree, 600, 42);
+        expect_single_ray_answers(tree, groups, scene == &soup ? "soup, ends at planes" : "boxes, ends at planes");
+        // The planes beyond every lane are passed without a step, and some lanes reach the planes.
+        QueryCounters counters;
+        std::uint32_t occluded = 0;
+        for (const Packet16& p : groups)
+            stream::trace_group<true, true>(detail::Access::impl(tree), p, nullptr, &occluded, &counters);
+        EXPECT_GT(counters.stream.group_unreached_planes, 0u);
+        EXPECT_GT(counters.stream.group_steps, 0u);
+    }
 }
 
 TEST(StreamGroupTraversal, RaysThatDescribeNoSegmentReportNothing) {
@@ -168,6 +228,7 @@ TEST(StreamGroupTraversal, EveryInstructionSetGivesTheSameAnswersBitForBit) {
                     << isa_name(isa) << " scene " << s << " group " << g;
                 ASSERT_EQ(got_counts.stream.group_steps, want_counts.stream.group_steps);
                 ASSERT_EQ(got_counts.stream.group_leaves, want_counts.stream.group_leaves);
+                ASSERT_EQ(got_counts.stream.group_unreached_planes, want_counts.stream.group_unreached_planes);
                 ASSERT_EQ(got_counts.triangle_tests, want_counts.triangle_tests);
                 ++checked;
             }

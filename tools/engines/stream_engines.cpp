@@ -58,8 +58,9 @@ public:
             {"pencil_packets", s.pencil_packets},
             {"pencil_rays", s.pencil_rays},
             {"cells_per_ray",
-             double(c.inner_steps + c.leaves + c.packet_steps + s.group_steps + s.group_leaves) / n},
+             double(c.inner_steps + c.leaves + c.packet_steps + s.group_steps + s.group_unreached_planes + s.group_leaves) / n},
             {"group_steps_per_ray", double(s.group_steps) / n},
+            {"group_unreached_planes_per_ray", double(s.group_unreached_planes) / n},
             {"triangle_tests_per_ray", double(c.triangle_tests) / n},
             // The calling thread's buffers of a call of these rays (docs/streams.md): keys, origin
             // hashes, order, sorted keys, sorted rays, the sort's 40-byte records of a ray and its
