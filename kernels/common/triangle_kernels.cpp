@@ -20,6 +20,24 @@ void scalar_ray_xn(const WatertightRay& r, const Triangle* const* tris, int n, L
     }
 }
 
+void scalar_ray_rows(const WatertightRay& r, const float* rows, std::size_t stride, std::size_t first, int n,
+                     LaneHits& out) {
+    out.mask = 0;
+    for (int i = 0; i < n; ++i) {
+        const float* at = rows + first + std::size_t(i);
+        const auto corner = [&](int c) { return Float3{at[std::size_t(3 * c) * stride], at[std::size_t(3 * c + 1) * stride],
+                                                       at[std::size_t(3 * c + 2) * stride]}; };
+        const Triangle tri{corner(0), corner(1), corner(2)};
+        TriangleHit h;
+        if (intersect_triangle(r, tri, h)) {
+            out.t[i] = h.t;
+            out.u[i] = h.u;
+            out.v[i] = h.v;
+            out.mask |= 1u << i;
+        }
+    }
+}
+
 void scalar_packet_x1(const WatertightPacket16& p, const Triangle& tri, LaneHits& out) {
     out.mask = 0;
     for (int i = 0; i < 16; ++i) {
@@ -48,7 +66,7 @@ void scalar_packet_x1(const WatertightPacket16& p, const Triangle& tri, LaneHits
 
 template <>
 const TriangleKernels& simd::table<TriangleKernels, Isa::scalar>() {
-    static constexpr TriangleKernels kScalar{Isa::scalar, scalar_ray_xn, scalar_ray_xn, scalar_packet_x1};
+    static constexpr TriangleKernels kScalar{Isa::scalar, scalar_ray_xn, scalar_ray_xn, scalar_packet_x1, scalar_ray_rows};
     return kScalar;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // SIMD watertight ray/triangle kernels, chosen at run time (SSE4.2 / AVX2 / AVX-512; simd/dispatch.hpp),
 // each returning per lane exactly what intersect_triangle() (the scalar reference) returns.
+#include <cstddef>
 #include <cstdint>
 
 #include "beamtrace/scene.hpp"
@@ -23,6 +24,12 @@ struct TriangleKernels {
     void (*ray_x8)(const WatertightRay& ray, const Triangle* const* tris, int n, LaneHits& out);
     // The 16 rays of a packet against one triangle; inactive rays never hit.
     void (*packet_x1)(const WatertightPacket16& rays, const Triangle& tri, LaneHits& out);
+    // One ray against n <= 16 consecutive triangles stored as nine rows of corner components (row c,
+    // component c % 3 of corner c / 3, starts at rows + c * stride; lane i tests triangle first + i),
+    // a register at a time with plain loads (no copy into lanes): every row must be readable up to
+    // first + 16 (kdtree::PacketTables pads them so).
+    void (*ray_rows)(const WatertightRay& ray, const float* rows, std::size_t stride, std::size_t first, int n,
+                     LaneHits& out);
 };
 
 // The kernels of one instruction set (which must be available), or of the best one.

@@ -105,6 +105,26 @@ template <class Arch>
     out.mask |= watertight_core<Arch>(k, B(r.sx), B(r.sy), B(r.sz), B(r.tnear), B(r.tfar), valid, out, base) << base;
 }
 
+// One ray against n <= 16 consecutive triangles of corner rows (TriangleKernels::ray_rows), W lanes a
+// step: the operations of ray_xw on the same values, loaded from the rows instead of copied.
+template <class Arch>
+void ray_rows(const WatertightRay& r, const float* rows, std::size_t stride, std::size_t first, int n, LaneHits& out) {
+    using B = xsimd::batch<float, Arch>;
+    constexpr int W = int(B::size);
+    const float* o = &r.org.x;
+    const int axis[3] = {r.kx, r.ky, r.kz};
+    out.mask = 0;
+    for (int base = 0; base < n; base += W) {
+        const float* at = rows + first + std::size_t(base);
+        const Corners<Arch> k = make_corners<Arch>([&](int c, int slot) {
+            return B::load_unaligned(at + std::size_t(3 * c + axis[slot]) * stride) - B(o[axis[slot]]);
+        });
+        const int left = n - base;
+        const std::uint32_t valid = left >= W ? (1u << W) - 1u : (1u << left) - 1u;
+        out.mask |= watertight_core<Arch>(k, B(r.sx), B(r.sy), B(r.sz), B(r.tnear), B(r.tfar), valid, out, base) << base;
+    }
+}
+
 // Lanes [base, base + W) of a packet against one triangle.
 template <class Arch>
 [[gnu::always_inline]] inline void packet_xw(const WatertightPacket16& p, const Triangle& tri, LaneHits& out,

@@ -26,6 +26,10 @@ struct UnitKernels {
     static void packet_one_triangle(const WatertightPacket16& p, const Triangle& tri, LaneHits& out) {
         packet_x1<Arch>(p, tri, out);
     }
+    static void ray_corner_rows(const WatertightRay& r, const float* rows, std::size_t stride, std::size_t first, int n,
+                                LaneHits& out) {
+        ray_rows<Arch>(r, rows, stride, first, n, out);
+    }
     static std::uint32_t frustum_cull(const kdtree::OneOriginFrustum& f, const kdtree::CornerRows& rows,
                                       std::size_t first, int n) {
         return kdtree::simd_impl::frustum_misses<Arch>(f, rows, first, n);

@@ -23,7 +23,7 @@ std::uint32_t scan_footprints(const std::uint32_t* footprints, std::uint32_t cou
 template <>
 const TriangleKernels& simd::table<TriangleKernels, Isa::avx2>() {
     static const TriangleKernels k{Isa::avx2, table<TriangleKernels, Isa::sse42>().ray_x4, Unit::ray_one_register,
-                                   Unit::packet_one_triangle};
+                                   Unit::packet_one_triangle, Unit::ray_corner_rows};
     return k;
 }
 

@@ -52,7 +52,8 @@ std::uint32_t batch_test(const vlf::TileRayBatch& rays, const Triangle* triangle
 template <>
 const TriangleKernels& simd::table<TriangleKernels, Isa::avx512>() {
     static const TriangleKernels k{Isa::avx512, table<TriangleKernels, Isa::sse42>().ray_x4,
-                                   table<TriangleKernels, Isa::avx2>().ray_x8, unit::Unit::packet_one_triangle};
+                                   table<TriangleKernels, Isa::avx2>().ray_x8, unit::Unit::packet_one_triangle,
+                                   unit::Unit::ray_corner_rows};
     return k;
 }
 

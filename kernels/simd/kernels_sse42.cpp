@@ -24,7 +24,8 @@ std::uint32_t scan_footprints(const std::uint32_t* footprints, std::uint32_t cou
 
 template <>
 const TriangleKernels& simd::table<TriangleKernels, Isa::sse42>() {
-    static constexpr TriangleKernels k{Isa::sse42, Unit::ray_one_register, ray_x8, Unit::packet_one_triangle};
+    static constexpr TriangleKernels k{Isa::sse42, Unit::ray_one_register, ray_x8, Unit::packet_one_triangle,
+                                       Unit::ray_corner_rows};
     return k;
 }
 

@@ -11,10 +11,10 @@
 
 #include <xsimd/xsimd.hpp>
 
-#include "common/ray_batches.hpp"
 #include "common/ray_validity_impl.hpp"
 #include "common/triangle_kernels.hpp"
 #include "common/watertight_packet_impl.hpp"
+#include "kdtree/packet/packet_tables.hpp"
 #include "simd/lane_bits.hpp"
 #include "simd/lane_folds.hpp"
 #include "stream/group_traversal.hpp"
@@ -136,7 +136,13 @@ class GroupTrace {
 public:
     GroupTrace(const KdTree::Impl& kd, const Packet16& group, PacketHits16* hits, std::uint32_t* occluded,
                QueryCounters* counters)
-        : kd_(kd), group_(group), hits_(hits), occluded_(occluded), counters_(counters), kernels_(*kd.kernels) {}
+        : kd_(kd),
+          group_(group),
+          hits_(hits),
+          occluded_(occluded),
+          counters_(counters),
+          kernels_(*kd.kernels),
+          rows_(kd.packet_tables().rows()) {}
 
     void run() {
         if constexpr (kOcclusion)
@@ -311,30 +317,32 @@ private:
             packet_.active = group_active();
             return;
         }
+        // Fewer lanes: each alone against the leaf's triangles, 16 at a time from the corner rows.
+        const std::size_t offset = node.offset();
         for (std::uint32_t m = lanes; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
             if constexpr (kCount) counters_->triangle_tests += count;
             WatertightRay w = lane_ray(i);
-            test_ray_in_batches(
-                kernels_, w, count, [&](std::uint32_t j) { return tris + j; },
-                [&](std::uint32_t j, int, const LaneHits& h) {
-                    if constexpr (kOcclusion) {
-                        if (h.mask) {
-                            done_ |= 1u << i;
-                            *occluded_ |= 1u << i;
-                            return false;
-                        }
-                    } else {
-                        for (std::uint32_t b = h.mask; b; b &= b - 1) {
-                            const int k = __builtin_ctz(b);
-                            if (h.t[k] < best_[i]) {
-                                record(i, h.t[k], ids[j + std::uint32_t(k)], h.u[k], h.v[k]);
-                                w.tfar = h.t[k];
-                            }
+            for (std::uint32_t first = 0; first < count; first += 16) {
+                const int n = int(count - first < 16 ? count - first : 16);
+                LaneHits h;
+                kernels_.ray_rows(w, rows_.at, rows_.stride, offset + first, n, h);
+                if constexpr (kOcclusion) {
+                    if (h.mask) {
+                        done_ |= 1u << i;
+                        *occluded_ |= 1u << i;
+                        break;
+                    }
+                } else {
+                    for (std::uint32_t b = h.mask; b; b &= b - 1) {
+                        const int k = __builtin_ctz(b);
+                        if (h.t[k] < best_[i]) {
+                            record(i, h.t[k], ids[first + std::uint32_t(k)], h.u[k], h.v[k]);
+                            w.tfar = h.t[k];
                         }
                     }
-                    return true;
-                });
+                }
+            }
         }
     }
 
@@ -377,6 +385,7 @@ private:
     std::uint32_t* occluded_;
     QueryCounters* counters_;
     const TriangleKernels& kernels_;
+    const kdtree::CornerRows rows_;  // the leaf triangles' corners as rows (kdtree/packet/packet_tables.hpp)
     GroupRays rays_{};
     WatertightPacket16 packet_;
     alignas(64) float best_[16] = {};  // a lane's closest hit so far: +inf before its first (a hit at t = tfar counts)

@@ -128,6 +128,43 @@ TEST_P(TriangleKernelsTest, OneRayManyTrianglesEqualsReference) {
     EXPECT_GT(hits, cases / 20) << "the generator should make many hits";
 }
 
+TEST_P(TriangleKernelsTest, OneRayCornerRowsEqualsReference) {
+    // Up to 16 consecutive triangles of padded corner rows (as kdtree::PacketTables stores a leaf's),
+    // starting anywhere in the rows, every lane equal to the reference bit for bit; lanes past n
+    // never hit.
+    const TriangleKernels& k = triangle_kernels(GetParam());
+    CaseGenerator gen(4321 + unsigned(GetParam()));
+    constexpr std::size_t kTriangles = 40, kStride = kTriangles + 16;
+    std::vector<float> rows(9 * kStride, 0.0f);
+    std::vector<Triangle> tris(kTriangles);
+    std::uint64_t hits = 0, cases = 0;
+    for (int iter = 0; iter < 60000; ++iter) {
+        if (iter % 64 == 0) {
+            for (std::size_t r = 0; r < kTriangles; ++r) {
+                tris[r] = gen.triangle();
+                const float* f = &tris[r].v0.x;
+                for (int c = 0; c < 9; ++c) rows[std::size_t(c) * kStride + r] = f[c];
+            }
+        }
+        const std::size_t first = std::size_t(gen.pick(int(kTriangles)));
+        const int n = 1 + gen.pick(std::min(16, int(kTriangles - first)));
+        const Ray ray = gen.ray_towards(tris[first + std::size_t(gen.pick(n))]);
+        const WatertightRay w = make_watertight_ray(ray);
+        LaneHits out;
+        k.ray_rows(w, rows.data(), kStride, first, n, out);
+        for (int i = 0; i < n; ++i) {
+            TriangleHit ref{};
+            const bool ref_hit = intersect_triangle(w, tris[first + std::size_t(i)], ref);
+            expect_lane_equals_reference(out, i, ref_hit, ref, "ray_rows");
+            hits += ref_hit;
+            ++cases;
+        }
+        ASSERT_EQ(out.mask >> n, 0u) << "lanes past n must not hit";
+    }
+    EXPECT_GT(cases, 200000u);
+    EXPECT_GT(hits, cases / 40) << "the generator should make many hits";
+}
+
 // Runs one packet against one triangle and compares every lane with the reference; returns the
 // number of hits and adds the active lanes to cases.
 static std::uint64_t check_packet(const TriangleKernels& k, const Packet16& p, const Triangle& tri,
