@@ -11,6 +11,7 @@
 
 #include <xsimd/xsimd.hpp>
 
+#include "common/ray_batches.hpp"
 #include "common/ray_validity_impl.hpp"
 #include "common/triangle_kernels.hpp"
 #include "common/watertight_packet_impl.hpp"
@@ -323,26 +324,25 @@ private:
             const int i = __builtin_ctz(m);
             if constexpr (kCount) counters_->triangle_tests += count;
             WatertightRay w = lane_ray(i);
-            for (std::uint32_t first = 0; first < count; first += 16) {
-                const int n = int(count - first < 16 ? count - first : 16);
-                LaneHits h;
-                kernels_.ray_rows(w, rows_.at, rows_.stride, offset + first, n, h);
-                if constexpr (kOcclusion) {
-                    if (h.mask) {
-                        done_ |= 1u << i;
-                        *occluded_ |= 1u << i;
-                        break;
-                    }
-                } else {
-                    for (std::uint32_t b = h.mask; b; b &= b - 1) {
-                        const int k = __builtin_ctz(b);
-                        if (h.t[k] < best_[i]) {
-                            record(i, h.t[k], ids[first + std::uint32_t(k)], h.u[k], h.v[k]);
-                            w.tfar = h.t[k];
-                        }
-                    }
-                }
-            }
+            test_ray_in_rows(kernels_, w, rows_.at, rows_.stride, offset, count,
+                             [&](std::uint32_t first, int, const LaneHits& h) {
+                                 if constexpr (kOcclusion) {
+                                     if (h.mask) {
+                                         done_ |= 1u << i;
+                                         *occluded_ |= 1u << i;
+                                         return false;
+                                     }
+                                 } else {
+                                     for (std::uint32_t b = h.mask; b; b &= b - 1) {
+                                         const int k = __builtin_ctz(b);
+                                         if (h.t[k] < best_[i]) {
+                                             record(i, h.t[k], ids[first + std::uint32_t(k)], h.u[k], h.v[k]);
+                                             w.tfar = h.t[k];
+                                         }
+                                     }
+                                 }
+                                 return true;
+                             });
         }
     }
 
