@@ -136,7 +136,12 @@ template <bool kOcclusion, bool kCount>
         if (cull && ((culled >> (j % 16)) & 1u)) continue;
         if constexpr (kCount) ++counters->triangle_tests;
         LaneHits lanes;
-        kernels.packet_x1(t.wp, corners[j], lanes);
+        // A culled leaf's corners come from the rows the culling has just read (in cache), others from
+        // the leaf's triangles: the same values.
+        if (cull)
+            kernels.packet_x1(t.wp, c.tables.rows().triangle(node.offset() + j), lanes);
+        else
+            kernels.packet_x1(t.wp, corners[j], lanes);
         if constexpr (kOcclusion) {
             if (lanes.mask) {
                 *t.occluded |= lanes.mask;
