@@ -18,18 +18,14 @@ struct StackEntry {
     float tmin, tmax;
 };
 
-}  // namespace
-
-template <bool kOcclusion, bool kCount, bool kSmallestId>
-Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counters) {
-    Hit best;
-    if constexpr (kCount) ++counters->rays;
-    if (!describes_segment(ray)) return best;
-    const Float3 inv{1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};
-    float tmin, tmax;
-    if (!clip_to_box(ray, inv, tree.bounds, tmin, tmax)) return best;
-
-    WatertightRay wray = make_watertight_ray(ray);
+// The walk of the subtree at `start` for [tmin, tmax], front to back from `best` (the closest hit so
+// far; wray.tfar its distance or the ray's tfar): the traversal from the root and the group
+// traversal's lanes that go on alone (traverse_subtree) share it.
+// Leaves are tested from corner rows (rows, stride: kdtree::PacketTables) with kRows.
+template <bool kOcclusion, bool kCount, bool kSmallestId, bool kRows>
+inline Hit walk(const KdTree::Impl& tree, const Ray& ray, const Float3& inv, WatertightRay wray,
+                std::uint32_t start, float tmin, float tmax, Hit best, const float* rows,
+                std::size_t stride, QueryCounters* counters) {
     const KdNode* nodes = tree.nodes.data();
     const std::uint32_t* ids = tree.triangle_ids.data();
     const Triangle* tris = tree.leaf_triangles.data();
@@ -38,7 +34,7 @@ Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counte
     StackEntry stack[kStackSize];
     int top = 0;
     bool in_plane = false;  // some stacked cell repeats the current interval (see below)
-    std::uint32_t index = 0;
+    std::uint32_t index = start;
     for (;;) {
         const KdNode& node = nodes[index];
         if (!node.is_leaf()) {
@@ -78,29 +74,31 @@ Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counte
             counters->triangle_tests += count;
         }
         bool occluded = false;
-        test_ray_in_batches(
-            kernels, wray, count, [&](std::uint32_t j) { return corners + j; },
-            [&](std::uint32_t j, int, const LaneHits& lanes) {
-                if constexpr (kOcclusion) {
-                    if (lanes.mask) {
-                        best.triangle = leaf[j];
-                        occluded = true;
-                        return false;
-                    }
-                } else {
-                    for (std::uint32_t m = lanes.mask; m; m &= m - 1) {
-                        const int i = __builtin_ctz(m);
-                        const bool nearer =
-                            lanes.t[i] < best.t ||
-                            (kSmallestId && lanes.t[i] == best.t && leaf[j + std::uint32_t(i)] < best.triangle);
-                        if (nearer) {
-                            best = Hit{lanes.t[i], leaf[j + std::uint32_t(i)], lanes.u[i], lanes.v[i]};
-                            wray.tfar = lanes.t[i];
-                        }
+        const auto on_batch = [&](std::uint32_t j, int, const LaneHits& lanes) {
+            if constexpr (kOcclusion) {
+                if (lanes.mask) {
+                    best.triangle = leaf[j];
+                    occluded = true;
+                    return false;
+                }
+            } else {
+                for (std::uint32_t m = lanes.mask; m; m &= m - 1) {
+                    const int i = __builtin_ctz(m);
+                    const bool nearer =
+                        lanes.t[i] < best.t ||
+                        (kSmallestId && lanes.t[i] == best.t && leaf[j + std::uint32_t(i)] < best.triangle);
+                    if (nearer) {
+                        best = Hit{lanes.t[i], leaf[j + std::uint32_t(i)], lanes.u[i], lanes.v[i]};
+                        wray.tfar = lanes.t[i];
                     }
                 }
-                return true;
-            });
+            }
+            return true;
+        };
+        if constexpr (kRows)  // 16 at a time from the corner rows (the same answers)
+            test_ray_in_rows(kernels, wray, rows, stride, node.offset(), count, on_batch);
+        else
+            test_ray_in_batches(kernels, wray, count, [&](std::uint32_t j) { return corners + j; }, on_batch);
         if (kOcclusion && occluded) return best;
         if (!kOcclusion && !in_plane && best.t < tmax - slack(tmax)) return best;  // nothing nearer is left
         // Next cell from the stack, skipping cells that start beyond the closest hit. (The stack is
@@ -117,6 +115,34 @@ Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counte
     }
 }
 
+}  // namespace
+
+template <bool kOcclusion, bool kCount, bool kSmallestId>
+Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counters) {
+    if constexpr (kCount) ++counters->rays;
+    if (!describes_segment(ray)) return Hit{};
+    const Float3 inv{1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};
+    float tmin, tmax;
+    if (!clip_to_box(ray, inv, tree.bounds, tmin, tmax)) return Hit{};
+    return walk<kOcclusion, kCount, kSmallestId, false>(tree, ray, inv, make_watertight_ray(ray), 0, tmin, tmax, Hit{},
+                                                 nullptr, 0, counters);
+}
+
+template <bool kOcclusion, bool kCount>
+Hit traverse_subtree(const KdTree::Impl& tree, const Ray& ray, const WatertightRay& wray, std::uint32_t node, float tmin,
+                     float tmax, const Hit& best, const float* rows, std::size_t stride, QueryCounters* counters) {
+    const Float3 inv{1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};
+    return walk<kOcclusion, kCount, false, true>(tree, ray, inv, wray, node, tmin, tmax, best, rows, stride, counters);
+}
+
+template Hit traverse_subtree<false, false>(const KdTree::Impl&, const Ray&, const WatertightRay&, std::uint32_t, float,
+                                            float, const Hit&, const float*, std::size_t, QueryCounters*);
+template Hit traverse_subtree<false, true>(const KdTree::Impl&, const Ray&, const WatertightRay&, std::uint32_t, float,
+                                           float, const Hit&, const float*, std::size_t, QueryCounters*);
+template Hit traverse_subtree<true, false>(const KdTree::Impl&, const Ray&, const WatertightRay&, std::uint32_t, float,
+                                           float, const Hit&, const float*, std::size_t, QueryCounters*);
+template Hit traverse_subtree<true, true>(const KdTree::Impl&, const Ray&, const WatertightRay&, std::uint32_t, float,
+                                          float, const Hit&, const float*, std::size_t, QueryCounters*);
 template Hit traverse_ray<false, false>(const KdTree::Impl&, const Ray&, QueryCounters*);
 template Hit traverse_ray<false, true>(const KdTree::Impl&, const Ray&, QueryCounters*);
 template Hit traverse_ray<true, false>(const KdTree::Impl&, const Ray&, QueryCounters*);

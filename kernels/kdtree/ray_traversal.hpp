@@ -2,10 +2,12 @@
 // Single-ray kd-tree traversal (kd_traversal.cpp), for the tree's own queries and for the packet
 // traversal's lanes that go alone.
 #include <cmath>
+#include <cstddef>
 #include <utility>
 
 #include "beamtrace/query.hpp"
 #include "beamtrace/ray.hpp"
+#include "common/watertight_ray.hpp"
 #include "kdtree/kd_node.hpp"
 
 namespace beamtrace::kdtree {
@@ -42,6 +44,16 @@ inline bool clip_to_box(const Ray& ray, const Float3& inv, const Box& box, float
 // with kSmallestId the smaller triangle id (brute force's rule, which ray classification answers by).
 template <bool kOcclusion, bool kCount, bool kSmallestId = false>
 Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counters);
+
+// The same traversal of the subtree at `node` for [tmin, tmax] (the interval the traversal from the
+// root has there), going on from `best`, the ray's closest hit so far (Hit{} for none; occlusion: Hit{}),
+// with wray = make_watertight_ray(ray) whose tfar is best.t when there is a hit. For the stream's
+// group traversal, whose lanes' decisions are this traversal's: a lane left alone in a subtree walks
+// it here, one step a node instead of a step of the whole group. Leaves are tested from the nine
+// corner rows `rows` (stride apart; kdtree::PacketTables), 16 triangles at a time.
+template <bool kOcclusion, bool kCount>
+Hit traverse_subtree(const KdTree::Impl& tree, const Ray& ray, const WatertightRay& wray, std::uint32_t node, float tmin,
+                     float tmax, const Hit& best, const float* rows, std::size_t stride, QueryCounters* counters);
 
 inline Hit intersect_one(const KdTree::Impl& tree, const Ray& ray) {
     return traverse_ray<false, false>(tree, ray, nullptr);

@@ -15,6 +15,7 @@
 #include "common/ray_validity_impl.hpp"
 #include "common/triangle_kernels.hpp"
 #include "common/watertight_packet_impl.hpp"
+#include "kdtree/ray_traversal.hpp"
 #include "kdtree/packet/packet_tables.hpp"
 #include "simd/lane_bits.hpp"
 #include "simd/lane_folds.hpp"
@@ -260,22 +261,32 @@ private:
                         index = node.split > reach_hi_[axis] ? index + 1 : node.upper_child();
                         continue;
                     }
-                    if constexpr (kCount) ++counters_->stream.group_steps;
-                    // Near: the child the leading lane meets first. The far child's lanes go on the
-                    // stack (depth <= 60, KdBuildRules: it never overflows).
-                    const bool lower_first = lower_first_for<Arch>(rays_, __builtin_ctz(lanes), axis, node.split);
-                    StackEntry& far = stack[top];
-                    std::uint32_t far_lanes = 0;
-                    lanes = one_origin_ && rays_.org[axis][__builtin_ctz(lanes)] != node.split
-                                ? split_lanes<Arch, true>(rays_, t, lanes, axis, node.split, lower_first, far.t, far_lanes)
-                                : split_lanes<Arch, false>(rays_, t, lanes, axis, node.split, lower_first, far.t, far_lanes);
-                    if (far_lanes != 0) {
-                        far.node = lower_first ? node.upper_child() : index + 1;
-                        far.lanes = far_lanes;
-                        ++top;
+                    if ((lanes & (lanes - 1)) == 0) {
+                        // One lane left: it walks the subtree alone, one scalar step a node; then
+                        // the stack.
+                        go_alone(__builtin_ctz(lanes), index, t);
+                        if constexpr (kOcclusion)
+                            if (done_ == valid_) return;
+                    } else {
+                        if constexpr (kCount) ++counters_->stream.group_steps;
+                        // Near: the child the leading lane meets first. The far child's lanes go on
+                        // the stack (depth <= 60, KdBuildRules: it never overflows).
+                        const bool lower_first = lower_first_for<Arch>(rays_, __builtin_ctz(lanes), axis, node.split);
+                        StackEntry& far = stack[top];
+                        std::uint32_t far_lanes = 0;
+                        lanes = one_origin_ && rays_.org[axis][__builtin_ctz(lanes)] != node.split
+                                    ? split_lanes<Arch, true>(rays_, t, lanes, axis, node.split, lower_first, far.t,
+                                                              far_lanes)
+                                    : split_lanes<Arch, false>(rays_, t, lanes, axis, node.split, lower_first, far.t,
+                                                               far_lanes);
+                        if (far_lanes != 0) {
+                            far.node = lower_first ? node.upper_child() : index + 1;
+                            far.lanes = far_lanes;
+                            ++top;
+                        }
+                        index = lower_first ? index + 1 : node.upper_child();
+                        if (lanes != 0) continue;
                     }
-                    index = lower_first ? index + 1 : node.upper_child();
-                    if (lanes != 0) continue;
                 }
                 else {
                     visit_leaf(node, lanes);
@@ -343,6 +354,25 @@ private:
                                  }
                                  return true;
                              });
+        }
+    }
+
+    // Lane i, alone in the subtree at `node` with its interval in t: the single-ray traversal of that
+    // subtree (kdtree::traverse_subtree, whose decisions the steps here repeat lane by lane), going
+    // on from the lane's closest hit so far.
+    void go_alone(int i, std::uint32_t node, const Intervals& t) {
+        const Ray ray = group_.ray(i);
+        const WatertightRay w = lane_ray(i);
+        if constexpr (kOcclusion) {
+            if (kdtree::traverse_subtree<true, kCount>(kd_, ray, w, node, t.tmin[i], t.tmax[i], Hit{}, rows_.at,
+                                                   rows_.stride, counters_).hit()) {
+                done_ |= 1u << i;
+                *occluded_ |= 1u << i;
+            }
+        } else {
+            const Hit h = kdtree::traverse_subtree<false, kCount>(kd_, ray, w, node, t.tmin[i], t.tmax[i], hits_->hit(i),
+                                                                   rows_.at, rows_.stride, counters_);
+            if (h.t < best_[i]) record(i, h.t, h.triangle, h.u, h.v);
         }
     }
 
