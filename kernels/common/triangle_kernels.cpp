@@ -7,16 +7,21 @@ namespace beamtrace {
 
 namespace {
 
+// Lane i of out: the reference's answer for the ray and the triangle.
+void test_lane(const WatertightRay& r, const Triangle& tri, int i, LaneHits& out) {
+    TriangleHit h;
+    if (intersect_triangle(r, tri, h)) {
+        out.t[i] = h.t;
+        out.u[i] = h.u;
+        out.v[i] = h.v;
+        out.mask |= 1u << i;
+    }
+}
+
 void scalar_ray_xn(const WatertightRay& r, const Triangle* const* tris, int n, LaneHits& out) {
     out.mask = 0;
     for (int i = 0; i < n; ++i) {
-        TriangleHit h;
-        if (intersect_triangle(r, *tris[i], h)) {
-            out.t[i] = h.t;
-            out.u[i] = h.u;
-            out.v[i] = h.v;
-            out.mask |= 1u << i;
-        }
+        test_lane(r, *tris[i], i, out);
     }
 }
 
@@ -25,16 +30,11 @@ void scalar_ray_rows(const WatertightRay& r, const float* rows, std::size_t stri
     out.mask = 0;
     for (int i = 0; i < n; ++i) {
         const float* at = rows + first + std::size_t(i);
-        const auto corner = [&](int c) { return Float3{at[std::size_t(3 * c) * stride], at[std::size_t(3 * c + 1) * stride],
-                                                       at[std::size_t(3 * c + 2) * stride]}; };
-        const Triangle tri{corner(0), corner(1), corner(2)};
-        TriangleHit h;
-        if (intersect_triangle(r, tri, h)) {
-            out.t[i] = h.t;
-            out.u[i] = h.u;
-            out.v[i] = h.v;
-            out.mask |= 1u << i;
-        }
+        const auto corner = [&](int c) {
+            return Float3{at[std::size_t(3 * c) * stride], at[std::size_t(3 * c + 1) * stride],
+                          at[std::size_t(3 * c + 2) * stride]};
+        };
+        test_lane(r, Triangle{corner(0), corner(1), corner(2)}, i, out);
     }
 }
 
@@ -52,13 +52,7 @@ void scalar_packet_x1(const WatertightPacket16& p, const Triangle& tri, LaneHits
         r.sz = p.sz[i];
         r.tnear = p.tnear[i];
         r.tfar = p.tfar[i];
-        TriangleHit h;
-        if (intersect_triangle(r, tri, h)) {
-            out.t[i] = h.t;
-            out.u[i] = h.u;
-            out.v[i] = h.v;
-            out.mask |= 1u << i;
-        }
+        test_lane(r, tri, i, out);
     }
 }
 
@@ -66,7 +60,8 @@ void scalar_packet_x1(const WatertightPacket16& p, const Triangle& tri, LaneHits
 
 template <>
 const TriangleKernels& simd::table<TriangleKernels, Isa::scalar>() {
-    static constexpr TriangleKernels kScalar{Isa::scalar, scalar_ray_xn, scalar_ray_xn, scalar_packet_x1, scalar_ray_rows};
+    static constexpr TriangleKernels kScalar{Isa::scalar, scalar_ray_xn, scalar_ray_xn, scalar_packet_x1,
+                                             scalar_ray_rows};
     return kScalar;
 }
 

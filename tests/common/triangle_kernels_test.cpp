@@ -86,6 +86,21 @@ void expect_lane_equals_reference(const LaneHits& out, int lane, bool ref_hit, c
     }
 }
 
+// Lanes 0 .. n - 1 of out (lane i: tris[i]) each equal to the reference, no lane past n hit; returns
+// the hits.
+int expect_lanes_equal_reference(const LaneHits& out, const WatertightRay& w, const Triangle* tris, int n,
+                                 const char* what) {
+    int hits = 0;
+    for (int i = 0; i < n; ++i) {
+        TriangleHit ref{};
+        const bool ref_hit = intersect_triangle(w, tris[i], ref);
+        expect_lane_equals_reference(out, i, ref_hit, ref, what);
+        hits += ref_hit;
+    }
+    EXPECT_EQ(out.mask >> n, 0u) << what << ": lanes past n must not hit";
+    return hits;
+}
+
 std::vector<Isa> available_isas() {
     std::vector<Isa> isas;
     for (Isa isa : {Isa::scalar, Isa::sse42, Isa::avx2, Isa::avx512})
@@ -114,15 +129,10 @@ TEST_P(TriangleKernelsTest, OneRayManyTrianglesEqualsReference) {
         LaneHits out4, out8;
         k.ray_x4(w, ptrs, n < 4 ? n : 4, out4);
         k.ray_x8(w, ptrs, n, out8);
-        for (int i = 0; i < n; ++i) {
-            TriangleHit ref{};
-            const bool ref_hit = intersect_triangle(w, tris[i], ref);
-            if (i < 4) expect_lane_equals_reference(out4, i, ref_hit, ref, "ray_x4");
-            expect_lane_equals_reference(out8, i, ref_hit, ref, "ray_x8");
-            hits += ref_hit;
-            ++cases;
-        }
-        ASSERT_EQ(out8.mask >> n, 0u) << "lanes past n must not hit";
+        expect_lanes_equal_reference(out4, w, tris, n < 4 ? n : 4, "ray_x4");
+        hits += std::uint64_t(expect_lanes_equal_reference(out8, w, tris, n, "ray_x8"));
+        cases += std::uint64_t(n);
+        if (HasFailure()) return;
     }
     EXPECT_GT(cases, 1000000u);
     EXPECT_GT(hits, cases / 20) << "the generator should make many hits";
@@ -152,14 +162,9 @@ TEST_P(TriangleKernelsTest, OneRayCornerRowsEqualsReference) {
         const WatertightRay w = make_watertight_ray(ray);
         LaneHits out;
         k.ray_rows(w, rows.data(), kStride, first, n, out);
-        for (int i = 0; i < n; ++i) {
-            TriangleHit ref{};
-            const bool ref_hit = intersect_triangle(w, tris[first + std::size_t(i)], ref);
-            expect_lane_equals_reference(out, i, ref_hit, ref, "ray_rows");
-            hits += ref_hit;
-            ++cases;
-        }
-        ASSERT_EQ(out.mask >> n, 0u) << "lanes past n must not hit";
+        hits += std::uint64_t(expect_lanes_equal_reference(out, w, tris.data() + first, n, "ray_rows"));
+        cases += std::uint64_t(n);
+        if (HasFailure()) return;
     }
     EXPECT_GT(cases, 200000u);
     EXPECT_GT(hits, cases / 40) << "the generator should make many hits";
