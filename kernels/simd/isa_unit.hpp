@@ -6,6 +6,7 @@
 
 #include "common/triangle_kernels_impl.hpp"
 #include "common/watertight_packet_impl.hpp"
+#include "kdtree/packet/block_meeting_impl.hpp"
 #include "kdtree/packet/lane_box_test_impl.hpp"
 #include "kdtree/packet/one_origin_frustum_impl.hpp"
 #include "kdtree/packet/packet_kernels.hpp"
@@ -50,7 +51,7 @@ struct UnitKernels {
     }
     // Every ISA's table of packet traversal kernels has its own forms.
     static constexpr kdtree::PacketKernels packet_kernels(Isa isa) {
-        return {isa, frustum_cull, lane_box, packet_setup()};
+        return {isa, frustum_cull, lane_box, packet_setup(), kdtree::simd_impl::block_meeting<Arch>};
     }
 };
 

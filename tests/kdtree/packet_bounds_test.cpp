@@ -1,11 +1,16 @@
-// Test (2) of interval traversal for a block of packets at once (BlockBounds::meeting, SSE) against
-// the scalar reference packet_misses_box, packet by packet: the same decisions, bit for bit, on
-// random bounds, boxes and limits, including unbounded reaches and packets that start inside the box.
+// Test (2) of interval traversal for a block of packets at once (PacketKernels::block_meeting, every
+// instruction set the CPU has, and the scalar table's reference) against packet_misses_box, packet by
+// packet: the same decisions, bit for bit, on random bounds, boxes and limits, including unbounded
+// reaches and packets that start inside the box.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
+#include <vector>
 
 #include "kdtree/packet/packet_bounds.hpp"
+#include "kdtree/packet/packet_kernels.hpp"
+#include "simd/isa.hpp"
 
 using namespace beamtrace;
 using namespace beamtrace::kdtree;
@@ -21,6 +26,13 @@ Interval random_interval(std::mt19937& rng, float lo, float hi) {
 }  // namespace
 
 TEST(BlockBounds, MeetingEqualsTheScalarTestPacketByPacket) {
+    std::vector<const PacketKernels*> tables;
+    for (Isa isa : {Isa::scalar, Isa::sse42, Isa::avx2, Isa::avx512}) {
+        if (isa_available(isa))
+            tables.push_back(&simd::select<PacketKernels>(isa));
+        else
+            std::printf("%s is not available on this CPU: skipped\n", isa_name(isa));
+    }
     std::mt19937 rng(71);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
     int met = 0, missed = 0;
@@ -50,12 +62,14 @@ TEST(BlockBounds, MeetingEqualsTheScalarTestPacketByPacket) {
             box.upper[k] = i.hi;
         }
         const float t0 = round % 4 == 0 ? -kInfinity : unit(rng) * 4.0f - 1.0f;
-        const std::uint32_t bits = block.meeting(box, t0);
-        EXPECT_EQ(bits >> block.count, 0u) << "round " << round;
-        for (int p = 0; p < block.count; ++p) {
-            const bool want = !packet_misses_box(pb[p], box, t0, reach[p]);
-            ASSERT_EQ(((bits >> p) & 1u) != 0, want) << "round " << round << " packet " << p;
-            (want ? met : missed) += 1;
+        for (const PacketKernels* k : tables) {
+            const std::uint32_t bits = k->block_meeting(block, box, t0);
+            EXPECT_EQ(bits >> block.count, 0u) << isa_name(k->isa) << " round " << round;
+            for (int p = 0; p < block.count; ++p) {
+                const bool want = !packet_misses_box(pb[p], box, t0, reach[p]);
+                ASSERT_EQ(((bits >> p) & 1u) != 0, want) << isa_name(k->isa) << " round " << round << " packet " << p;
+                if (k == tables.front()) (want ? met : missed) += 1;
+            }
         }
     }
     // Both answers are exercised.

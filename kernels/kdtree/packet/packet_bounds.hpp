@@ -2,9 +2,9 @@
 // A packet's bounds in interval traversal (MLRTA section 3.3): the ranges of its rays' origins and
 // reciprocal directions per axis, from which every plane interval and test (2) against a box are
 // derived. `packet_misses_box` is test (2) for one packet (the scalar reference);
-// `BlockBounds::meeting` is the same test for every packet of a block traced together, four
-// packets per instruction (SSE, the library's baseline), with the same operations in the same
-// order: its decisions are the reference's, bit for bit.
+// `PacketKernels::block_meeting` is the same test for every packet of a block traced together,
+// 4, 8 or 16 packets per instruction (block_meeting_impl.hpp), with the same operations in the
+// same order: its decisions are the reference's, bit for bit.
 #include <cstdint>
 
 #include "beamtrace/ray.hpp"
@@ -54,9 +54,14 @@ struct alignas(64) BlockBounds {
 
     // Puts packet p's bounds (sign and pad are the block's) in column p.
     void set(int p, const PacketBounds& b, float packet_reach);
-    // Bit p set when packet p of [0, count) does not miss the box by test (2) with t1 = reach[p]:
-    // !packet_misses_box(bounds of p, box, t0, reach[p]).
-    std::uint32_t meeting(const Box& box, float t0) const;
+    // Column p's bounds as set.
+    PacketBounds bounds(int p) const;
 };
+
+// Bit p set when packet p of [0, block.count) does not miss the box by test (2) with t1 =
+// block.reach[p]: !packet_misses_box(block.bounds(p), box, t0, block.reach[p]). The kernel tables'
+// block_meeting (kdtree/packet/packet_kernels.hpp); this is the scalar table's reference.
+using BlockMeetingKernel = std::uint32_t (*)(const BlockBounds& block, const Box& box, float t0);
+std::uint32_t block_meeting_reference(const BlockBounds& block, const Box& box, float t0);
 
 }  // namespace beamtrace::kdtree

@@ -249,7 +249,7 @@ void interval_traversal(const PacketTraversalContext& c, TracedPacket* packets, 
                 reach = packets[0].reach;
             } else if (const Box& box = c.tables.geometry_boxes[index]; !packet_misses_box(pb, box, c0, reach)) {
                 // Test (2) of every packet at once, then the packets that pass, one by one.
-                for (std::uint32_t m = block.meeting(box, c0); m; m &= m - 1) {
+                for (std::uint32_t m = c.tables.kernels->block_meeting(block, box, c0); m; m &= m - 1) {
                     const int p = __builtin_ctz(m);
                     visit_leaf<kOcclusion, kCount>(c, index, c0, packets[p], true, counters);
                     block.reach[p] = packets[p].reach;
