@@ -125,24 +125,28 @@ Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counte
     float tmin, tmax;
     if (!clip_to_box(ray, inv, tree.bounds, tmin, tmax)) return Hit{};
     return walk<kOcclusion, kCount, kSmallestId, false>(tree, ray, inv, make_watertight_ray(ray), 0, tmin, tmax, Hit{},
-                                                 nullptr, 0, counters);
+                                                        nullptr, 0, counters);
 }
 
 template <bool kOcclusion, bool kCount>
-Hit traverse_subtree(const KdTree::Impl& tree, const Ray& ray, const WatertightRay& wray, std::uint32_t node, float tmin,
-                     float tmax, const Hit& best, const float* rows, std::size_t stride, QueryCounters* counters) {
-    const Float3 inv{1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};
+Hit traverse_subtree(const KdTree::Impl& tree, const Ray& ray, const Float3& inv, const WatertightRay& wray,
+                     std::uint32_t node, float tmin, float tmax, const Hit& best, const float* rows, std::size_t stride,
+                     QueryCounters* counters) {
     return walk<kOcclusion, kCount, false, true>(tree, ray, inv, wray, node, tmin, tmax, best, rows, stride, counters);
 }
 
-template Hit traverse_subtree<false, false>(const KdTree::Impl&, const Ray&, const WatertightRay&, std::uint32_t, float,
-                                            float, const Hit&, const float*, std::size_t, QueryCounters*);
-template Hit traverse_subtree<false, true>(const KdTree::Impl&, const Ray&, const WatertightRay&, std::uint32_t, float,
-                                           float, const Hit&, const float*, std::size_t, QueryCounters*);
-template Hit traverse_subtree<true, false>(const KdTree::Impl&, const Ray&, const WatertightRay&, std::uint32_t, float,
-                                           float, const Hit&, const float*, std::size_t, QueryCounters*);
-template Hit traverse_subtree<true, true>(const KdTree::Impl&, const Ray&, const WatertightRay&, std::uint32_t, float,
-                                          float, const Hit&, const float*, std::size_t, QueryCounters*);
+template Hit traverse_subtree<false, false>(const KdTree::Impl&, const Ray&, const Float3&, const WatertightRay&,
+                                            std::uint32_t, float, float, const Hit&, const float*, std::size_t,
+                                            QueryCounters*);
+template Hit traverse_subtree<false, true>(const KdTree::Impl&, const Ray&, const Float3&, const WatertightRay&,
+                                           std::uint32_t, float, float, const Hit&, const float*, std::size_t,
+                                           QueryCounters*);
+template Hit traverse_subtree<true, false>(const KdTree::Impl&, const Ray&, const Float3&, const WatertightRay&,
+                                           std::uint32_t, float, float, const Hit&, const float*, std::size_t,
+                                           QueryCounters*);
+template Hit traverse_subtree<true, true>(const KdTree::Impl&, const Ray&, const Float3&, const WatertightRay&,
+                                          std::uint32_t, float, float, const Hit&, const float*, std::size_t,
+                                          QueryCounters*);
 template Hit traverse_ray<false, false>(const KdTree::Impl&, const Ray&, QueryCounters*);
 template Hit traverse_ray<false, true>(const KdTree::Impl&, const Ray&, QueryCounters*);
 template Hit traverse_ray<true, false>(const KdTree::Impl&, const Ray&, QueryCounters*);

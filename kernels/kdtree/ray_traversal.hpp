@@ -47,13 +47,15 @@ Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counte
 
 // The same traversal of the subtree at `node` for [tmin, tmax] (the interval the traversal from the
 // root has there), going on from `best`, the ray's closest hit so far (Hit{} for none; occlusion: Hit{}),
-// with wray = make_watertight_ray(ray) whose tfar is best.t when there is a hit. For the stream's
+// with inv the direction's reciprocals (1 / dir, as traverse_ray takes them) and wray =
+// make_watertight_ray(ray) whose tfar is best.t when there is a hit. For the stream's
 // group traversal, whose lanes' decisions are this traversal's: a lane left alone in a subtree walks
 // it here, one step a node instead of a step of the whole group. Leaves are tested from the nine
 // corner rows `rows` (stride apart; kdtree::PacketTables), 16 triangles at a time.
 template <bool kOcclusion, bool kCount>
-Hit traverse_subtree(const KdTree::Impl& tree, const Ray& ray, const WatertightRay& wray, std::uint32_t node, float tmin,
-                     float tmax, const Hit& best, const float* rows, std::size_t stride, QueryCounters* counters);
+Hit traverse_subtree(const KdTree::Impl& tree, const Ray& ray, const Float3& inv, const WatertightRay& wray,
+                     std::uint32_t node, float tmin, float tmax, const Hit& best, const float* rows, std::size_t stride,
+                     QueryCounters* counters);
 
 inline Hit intersect_one(const KdTree::Impl& tree, const Ray& ray) {
     return traverse_ray<false, false>(tree, ray, nullptr);

@@ -362,16 +362,18 @@ private:
     // on from the lane's closest hit so far.
     void go_alone(int i, std::uint32_t node, const Intervals& t) {
         const Ray ray = group_.ray(i);
+        const Float3 inv{rays_.inv[0][i], rays_.inv[1][i], rays_.inv[2][i]};  // 1 / dir, as the walk takes it
         const WatertightRay w = lane_ray(i);
         if constexpr (kOcclusion) {
-            if (kdtree::traverse_subtree<true, kCount>(kd_, ray, w, node, t.tmin[i], t.tmax[i], Hit{}, rows_.at,
-                                                   rows_.stride, counters_).hit()) {
+            if (kdtree::traverse_subtree<true, kCount>(kd_, ray, inv, w, node, t.tmin[i], t.tmax[i], Hit{}, rows_.at,
+                                                       rows_.stride, counters_)
+                    .hit()) {
                 done_ |= 1u << i;
                 *occluded_ |= 1u << i;
             }
         } else {
-            const Hit h = kdtree::traverse_subtree<false, kCount>(kd_, ray, w, node, t.tmin[i], t.tmax[i], hits_->hit(i),
-                                                                   rows_.at, rows_.stride, counters_);
+            const Hit h = kdtree::traverse_subtree<false, kCount>(kd_, ray, inv, w, node, t.tmin[i], t.tmax[i],
+                                                                   hits_->hit(i), rows_.at, rows_.stride, counters_);
             if (h.t < best_[i]) record(i, h.t, h.triangle, h.u, h.v);
         }
     }
