@@ -51,7 +51,7 @@ struct QueryCounters {
         std::uint64_t pencil_rays = 0;        // rays in them
         std::uint64_t single_rays = 0;        // rays traced alone (no group)
         std::uint64_t group_steps = 0;        // inner nodes visited by origin groups
-        std::uint64_t group_leaves = 0;       // leaves visited by origin groups
+        std::uint64_t group_leaves = 0;       // leaves tested 16 rays at a time by origin groups (fewer lanes: leaves)
         std::uint64_t group_unreached_planes = 0;  // inner nodes passed without a step: no lane's segment reaches the plane
         std::uint64_t sort_nanoseconds = 0;   // keys, sort, grouping and the answers' scatter, summed over calls
     } stream;

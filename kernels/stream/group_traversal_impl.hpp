@@ -11,7 +11,6 @@
 
 #include <xsimd/xsimd.hpp>
 
-#include "common/ray_batches.hpp"
 #include "common/ray_validity_impl.hpp"
 #include "common/triangle_kernels.hpp"
 #include "common/watertight_packet_impl.hpp"
@@ -289,7 +288,7 @@ private:
                     }
                 }
                 else {
-                    visit_leaf(node, lanes);
+                    visit_leaf(index, lanes, t);
                     if constexpr (kOcclusion)
                         if (done_ == valid_) return;
                 }
@@ -308,53 +307,34 @@ private:
         }
     }
 
-    void visit_leaf(const KdNode& node, std::uint32_t lanes) {
+    // Leaf `index` for `lanes` (their intervals in t): one 16-ray test a triangle when at least
+    // kPacketTestLanes lanes reach it, else each lane alone (go_alone: the single-ray traversal's leaf
+    // test, 16 triangles a call from the corner rows).
+    void visit_leaf(std::uint32_t index, std::uint32_t lanes, const Intervals& t) {
+        const KdNode& node = kd_.nodes[index];
         const std::uint32_t count = node.triangle_count();
         if (count == 0) return;
-        if constexpr (kCount) ++counters_->stream.group_leaves;
-        const std::uint32_t* ids = kd_.triangle_ids.data() + node.offset();
-        const Triangle* tris = kd_.leaf_triangles.data() + node.offset();
-        if (__builtin_popcount(lanes) >= kPacketTestLanes) {
-            if constexpr (kCount) counters_->triangle_tests += count;
-            packet_.active = lanes;
-            for (std::uint32_t j = 0; j < count; ++j) {
-                LaneHits h;
-                kernels_.packet_x1(packet_, tris[j], h);
-                take(h, ids[j]);
-                if constexpr (kOcclusion) {
-                    packet_.active &= ~h.mask;
-                    if (packet_.active == 0) break;
-                }
-            }
-            packet_.active = group_active();
+        if (__builtin_popcount(lanes) < kPacketTestLanes) {
+            for (std::uint32_t m = lanes; m; m &= m - 1) go_alone(__builtin_ctz(m), index, t);
             return;
         }
-        // Fewer lanes: each alone against the leaf's triangles, 16 at a time from the corner rows.
-        const std::size_t offset = node.offset();
-        for (std::uint32_t m = lanes; m; m &= m - 1) {
-            const int i = __builtin_ctz(m);
-            if constexpr (kCount) counters_->triangle_tests += count;
-            WatertightRay w = lane_ray(i);
-            test_ray_in_rows(kernels_, w, rows_.at, rows_.stride, offset, count,
-                             [&](std::uint32_t first, int, const LaneHits& h) {
-                                 if constexpr (kOcclusion) {
-                                     if (h.mask) {
-                                         done_ |= 1u << i;
-                                         *occluded_ |= 1u << i;
-                                         return false;
-                                     }
-                                 } else {
-                                     for (std::uint32_t b = h.mask; b; b &= b - 1) {
-                                         const int k = __builtin_ctz(b);
-                                         if (h.t[k] < best_[i]) {
-                                             record(i, h.t[k], ids[first + std::uint32_t(k)], h.u[k], h.v[k]);
-                                             w.tfar = h.t[k];
-                                         }
-                                     }
-                                 }
-                                 return true;
-                             });
+        if constexpr (kCount) {
+            ++counters_->stream.group_leaves;
+            counters_->triangle_tests += count;
         }
+        const std::uint32_t* ids = kd_.triangle_ids.data() + node.offset();
+        const Triangle* tris = kd_.leaf_triangles.data() + node.offset();
+        packet_.active = lanes;
+        for (std::uint32_t j = 0; j < count; ++j) {
+            LaneHits h;
+            kernels_.packet_x1(packet_, tris[j], h);
+            take(h, ids[j]);
+            if constexpr (kOcclusion) {
+                packet_.active &= ~h.mask;
+                if (packet_.active == 0) break;
+            }
+        }
+        packet_.active = group_active();
     }
 
     // Lane i, alone in the subtree at `node` with its interval in t: the single-ray traversal of that
