@@ -179,6 +179,7 @@ template <bool kOcclusion, bool kCount>
 void interval_traversal(const PacketTraversalContext& c, TracedPacket* packets, int n, const PacketBounds& pb,
                         float e0, float e1, const TraversalStart& start, QueryCounters* counters) {
     const KdNode* nodes = c.kd.nodes.data();
+    const Box* geometry_boxes = c.tables.geometry_boxes.data();
     // Cells starting beyond the farthest any active ray still needs to look are skipped.
     auto reach_of_all = [&] {
         float r = -kInfinity;
@@ -241,6 +242,8 @@ void interval_traversal(const PacketTraversalContext& c, TracedPacket* packets, 
                 c1 = std::min(c1, tp.hi);
                 index = near;
             }
+            // The next node's geometry box (read if it is a leaf) loads along with the node.
+            __builtin_prefetch(geometry_boxes + index);
             continue;
         }
         if (node.triangle_count() > 0) {
@@ -249,12 +252,17 @@ void interval_traversal(const PacketTraversalContext& c, TracedPacket* packets, 
                 reach = packets[0].reach;
             } else if (const Box& box = c.tables.geometry_boxes[index]; !packet_misses_box(pb, box, c0, reach)) {
                 // Test (2) of every packet at once, then the packets that pass, one by one.
-                for (std::uint32_t m = c.tables.kernels->block_meeting(block, box, c0); m; m &= m - 1) {
+                const std::uint32_t meeting = c.tables.kernels->block_meeting(block, box, c0);
+                for (std::uint32_t m = meeting; m; m &= m - 1) {
                     const int p = __builtin_ctz(m);
                     visit_leaf<kOcclusion, kCount>(c, index, c0, packets[p], true, counters);
                     block.reach[p] = packets[p].reach;
                 }
-                reach = reach_of_all();
+                // Only the packets visited can look less far; their reaches are in one row.
+                if (meeting != 0) {
+                    reach = block.reach[0];
+                    for (int p = 1; p < n; ++p) reach = std::max(reach, block.reach[p]);
+                }
                 if (reach == -kInfinity) return;  // occlusion: every ray of every packet stopped
             }
         }
