@@ -81,7 +81,7 @@ struct RayClassification::Impl {
         const Box& b = ti.bounds;
         for (int k = 0; k < 3; ++k)
             scene_scale = std::max(scene_scale, std::max(std::fabs(b.lower[k]), std::fabs(b.upper[k])));
-        shared_point_size = b.diagonal() * (1.0f / 4096.0f);
+        shared_point_size = b.diagonal() * raycls::kSharedPointFraction;
         context.tree = &ti;
         context.min_candidates = settings.min_candidates;
         context.memory_budget = settings.memory_budget_bytes;
@@ -135,20 +135,35 @@ using Impl = RayClassification::Impl;
 using raycls::Frame;
 using raycls::origin_of;
 
+// Light buffers one call may use (rays sharing up to this many end or start points: shadow rays
+// towards a few point lights); a call whose rays share more points uses the 5D tree.
+constexpr std::size_t kMaxCallPoints = 16;
+
+// Where a call's rays are classified: the 5D tree, or one light buffer per shared point (`of`: ray i's
+// buffer, empty when there is one).
 struct CallPlan {
     Frame frame = Frame::space;
-    const CellTree* cells = nullptr;
+    std::vector<const CellTree*> cells;
+    std::vector<std::uint8_t> of;
+
+    std::size_t cells_of(std::size_t ray) const { return of.empty() ? 0 : of[ray]; }
 };
 
-// A shared end point (occlusion only: classified from the light) or a shared start point.
+// Shared end points (occlusion only: classified from the lights) or shared start points, each with
+// its light buffer; else the 5D tree.
 CallPlan plan_call(const Impl& impl, std::span<const Ray> rays, bool occlusion) {
-    CallPlan plan{Frame::space, impl.space.get()};
+    CallPlan plan{Frame::space, {impl.space.get()}, {}};
     if (!impl.settings.light_buffers) return plan;
-    const raycls::SharedPoint shared =
-        raycls::find_shared_point(rays, occlusion, impl.shared_point_size, kMinLightBufferRays);
-    if (shared.frame != Frame::space)
-        if (const CellTree* t = impl.light_buffer(shared.points)) return CallPlan{shared.frame, t};
-    return plan;
+    raycls::SharedPoints shared = raycls::find_shared_points(rays, occlusion, impl.shared_point_size,
+                                                             kMinLightBufferRays, kMaxCallPoints);
+    if (shared.frame == Frame::space) return plan;
+    std::vector<const CellTree*> buffers;
+    for (const Box& points : shared.points) {
+        const CellTree* t = impl.light_buffer(points);
+        if (!t) return plan;  // too many light buffers kept: the 5D tree
+        buffers.push_back(t);
+    }
+    return CallPlan{shared.frame, std::move(buffers), std::move(shared.of)};
 }
 
 // Rays of one thread that reached a cell and that fell back to the kd-tree, per window of one call
@@ -174,22 +189,22 @@ struct Payoff {
 // One ray: its cell (the part's cache first), then its candidates; the kd-tree when the memory budget
 // leaves no room for its cell.
 template <bool kOcclusion, bool kCount>
-Hit trace_one(const Impl& impl, const CallPlan& plan, const Ray& r, const raycls::Cell*& cache,
+Hit trace_one(const Impl& impl, Frame frame, const CellTree& cells, const Ray& r, const raycls::Cell*& cache,
               QueryCounters* counters, Payoff& payoff) {
     Hit none;
     if (!describes_segment(r)) return none;
     Ray ray = r;
     float p[3];
     DirectionCode code;
-    if (plan.frame == Frame::space) {
+    if (frame == Frame::space) {
         // The part of the segment inside the scene's box, classified from where it enters.
-        const Box& box = plan.cells->origins();
+        const Box& box = cells.origins();
         const Float3 inv{1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z};
         float tmin, tmax;
         if (!kdtree::clip_to_box(r, inv, box, tmin, tmax)) return none;
         for (int k = 0; k < 3; ++k) p[k] = std::clamp(r.org[k] + tmin * r.dir[k], box.lower[k], box.upper[k]);
         code = raycls::direction_code(r.dir);
-    } else if (plan.frame == Frame::from_start) {
+    } else if (frame == Frame::from_start) {
         for (int k = 0; k < 3; ++k) p[k] = origin_of(r, k);
         code = raycls::direction_code(r.dir);
     } else {
@@ -198,14 +213,14 @@ Hit trace_one(const Impl& impl, const CallPlan& plan, const Ray& r, const raycls
     }
     if constexpr (kCount) {
         ++counters->raycls.rays;
-        if (plan.frame != Frame::space) ++counters->raycls.light_buffer_rays;
+        if (frame != Frame::space) ++counters->raycls.light_buffer_rays;
     }
     const raycls::Cell* cell = nullptr;
-    if (cache && raycls::cell_contains(cache->bounds, p, code.face, code.u, code.v, plan.frame == Frame::space)) {
+    if (cache && raycls::cell_contains(cache->bounds, p, code.face, code.u, code.v, frame == Frame::space)) {
         cell = cache;
         if constexpr (kCount) ++counters->raycls.cache_hits;
     } else {
-        cell = plan.cells->find<kCount>(p, code, counters);
+        cell = cells.find<kCount>(p, code, counters);
         if (!cell) {
             ++payoff.fell_back;
             const KdTree::Impl& tree = detail::Access::impl(impl.tree);
@@ -221,7 +236,7 @@ Hit trace_one(const Impl& impl, const CallPlan& plan, const Ray& r, const raycls
     const float step = std::fabs(r.dir[k]);
     if constexpr (kOcclusion) {
         float stop;
-        if (plan.frame == Frame::from_end)
+        if (frame == Frame::from_end)
             stop = raycls::key_stop(s * r.org[k], -r.tnear, step);  // the segment's start, seen from the light
         else
             stop = raycls::key_stop(s * r.org[k], r.tfar, step);
@@ -243,13 +258,15 @@ void trace_span(const Impl& impl, std::span<const Ray> rays, const QueryOptions&
     const CallPlan plan = plan_call(impl, rays, kOcclusion);
     const std::uint64_t call = impl.context.epoch.load(std::memory_order_relaxed);
     run_query(rays.size(), options, 1024, [&](std::size_t b, std::size_t e, QueryCounters* c) {
-        const raycls::Cell* cache = nullptr;
+        const raycls::Cell* caches[kMaxCallPoints] = {};  // the last cell of each light buffer
         thread_local Payoff payoff;
         payoff.start(&impl, call);
         const bool watch = plan.frame == Frame::space;
         for (std::size_t i = b; i < e; ++i) {
-            out(i, c ? trace_one<kOcclusion, true>(impl, plan, rays[i], cache, c, payoff)
-                     : trace_one<kOcclusion, false>(impl, plan, rays[i], cache, nullptr, payoff));
+            const std::size_t t = plan.cells_of(i);
+            const CellTree& cells = *plan.cells[t];
+            out(i, c ? trace_one<kOcclusion, true>(impl, plan.frame, cells, rays[i], caches[t], c, payoff)
+                     : trace_one<kOcclusion, false>(impl, plan.frame, cells, rays[i], caches[t], nullptr, payoff));
             if (watch) payoff.check(impl.context);
         }
     });
@@ -278,7 +295,7 @@ Hit RayClassification::intersect(const Ray& ray) const {
     std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
     const raycls::Cell* cache = nullptr;
     Payoff payoff;
-    return trace_one<false, false>(*impl_, CallPlan{Frame::space, impl_->space.get()}, ray, cache, nullptr, payoff);
+    return trace_one<false, false>(*impl_, Frame::space, *impl_->space, ray, cache, nullptr, payoff);
 }
 
 bool RayClassification::occluded(const Ray& ray) const {
@@ -286,7 +303,7 @@ bool RayClassification::occluded(const Ray& ray) const {
     std::shared_lock<std::shared_mutex> use(impl_->use_mutex);
     const raycls::Cell* cache = nullptr;
     Payoff payoff;
-    return trace_one<true, false>(*impl_, CallPlan{Frame::space, impl_->space.get()}, ray, cache, nullptr, payoff)
+    return trace_one<true, false>(*impl_, Frame::space, *impl_->space, ray, cache, nullptr, payoff)
         .hit();
 }
 

@@ -104,7 +104,7 @@ struct SpaceTimeClassification::Impl {
             scale = std::max({scale, std::fabs(context.origins.lower[k]), std::fabs(context.origins.upper[k])});
         context.origin_margin = double(scale) * 1e-5;
         context.direction_margin = 1e-6;
-        shared_point_size = scene.bounds().diagonal() * (1.0f / 4096.0f);
+        shared_point_size = scene.bounds().diagonal() * raycls::kSharedPointFraction;
         if (settings.static_packets) still.kd_tree().prepare_packet_queries();
         slots = std::vector<std::atomic<raycls::MovingBin*>>(std::size_t(bins));
         for (auto& b : slots) b.store(nullptr);

@@ -177,6 +177,57 @@ TEST(RayClassification, LightBufferFromSharedEndPoint) {
     }
 }
 
+// Shadow rays of each origin towards several lights, interleaved as `--lights N` makes them (ray
+// i goes to light i % lights): one light buffer per light up to 16 lights a call, the 5D tree beyond.
+TEST(RayClassification, LightBuffersForSeveralLights) {
+    for (const Case& c : scenes()) {
+        const Box& b = c.scene.bounds();
+        const Float3 e = b.extent();
+        const float d = b.diagonal();
+        for (int lights : {2, 4, 16, 17}) {
+            std::vector<std::vector<Ray>> per_light;
+            for (int l = 0; l < lights; ++l) {
+                const float a = float(l) / float(lights);
+                const Float3 light = b.center() + Float3{(a - 0.5f) * e.x, 0.35f * e.y + 0.05f * d, (0.5f - a) * e.z};
+                per_light.push_back(rays_to_light(b, light, 3000 / lights + 64, 41 + unsigned(l)));
+            }
+            std::vector<Ray> rays;
+            for (std::size_t i = 0; i < per_light[0].size(); ++i)
+                for (int l = 0; l < lights; ++l) rays.push_back(per_light[std::size_t(l)][i]);
+            const RayClassification rc(c.scene);
+            std::vector<std::uint8_t> occ(rays.size());
+            QueryCounters counters;
+            rc.occluded(rays, occ, QueryOptions{1, &counters});
+            const std::string what = std::string(c.name) + ", " + std::to_string(lights) + " lights";
+            if (lights <= 16) {
+                EXPECT_EQ(counters.raycls.light_buffer_rays, counters.raycls.rays) << what << ": every ray via its light";
+                EXPECT_EQ(rc.stats().light_buffers, std::size_t(lights)) << what;
+                // A last cell per light: interleaving the lights finds about as many rays in the last
+                // cell of their light as the same rays light by light do.
+                std::vector<Ray> grouped;
+                for (const std::vector<Ray>& l : per_light) grouped.insert(grouped.end(), l.begin(), l.end());
+                const RayClassification again(c.scene);
+                std::vector<std::uint8_t> grouped_occ(grouped.size());
+                QueryCounters grouped_counters;
+                again.occluded(grouped, grouped_occ, QueryOptions{1, &grouped_counters});
+                EXPECT_GT(grouped_counters.raycls.cache_hits, 0u) << what;
+                EXPECT_GE(double(counters.raycls.cache_hits), 0.8 * double(grouped_counters.raycls.cache_hits)) << what;
+            } else {
+                EXPECT_EQ(counters.raycls.light_buffer_rays, 0u) << what << ": more points than a call takes";
+                EXPECT_EQ(rc.stats().light_buffers, 0u) << what;
+            }
+            std::size_t occluded = 0;
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                ASSERT_EQ(occ[i] != 0, occluded_brute_force(c.scene, rays[i])) << what << " ray " << i;
+                occluded += occ[i];
+            }
+            EXPECT_GT(occluded, 0u) << what;
+            EXPECT_LT(occluded, rays.size()) << what;
+            if (lights == 4) check_all(rc, c.scene, rays, what.c_str(), 2);
+        }
+    }
+}
+
 TEST(RayClassification, LightBufferFromSharedStartPoint) {
     for (const Case& c : scenes()) {
         const RayClassification rc(c.scene);
