@@ -61,7 +61,8 @@ struct RayClassification::Impl {
     int space_depth = 5, light_depth = 8;
     int light_first_list_depth = 1;  // light buffers' cells above it hold no list (docs/raycls.md)
     float scene_scale = 1.0f;     // largest coordinate magnitude of the tree's box
-    float shared_point_size = 0;  // largest box of shared points (light buffers' apex)
+    float shared_point_size = 0;  // largest box of shared points
+    float apex_margin = 0;        // light buffers' apex: the points' box grown by this
     mutable raycls::CellContext context;
     std::unique_ptr<CellTree> space;
     mutable std::mutex buffers_mutex;
@@ -82,6 +83,7 @@ struct RayClassification::Impl {
         for (int k = 0; k < 3; ++k)
             scene_scale = std::max(scene_scale, std::max(std::fabs(b.lower[k]), std::fabs(b.upper[k])));
         shared_point_size = b.diagonal() * raycls::kSharedPointFraction;
+        apex_margin = b.diagonal() * raycls::kApexMarginFraction;
         context.tree = &ti;
         context.min_candidates = settings.min_candidates;
         context.memory_budget = settings.memory_budget_bytes;
@@ -120,7 +122,7 @@ struct RayClassification::Impl {
         if (buffers.size() >= kMaxLightBuffers) return nullptr;
         // A little room around the points, so that later calls around the same point reuse it.
         Box apex = points;
-        const float grow = shared_point_size * 0.25f;
+        const float grow = apex_margin;
         apex.lower = apex.lower - Float3{grow, grow, grow};
         apex.upper = apex.upper + Float3{grow, grow, grow};
         buffers.push_back(std::make_unique<CellTree>(context, apex, false, light_depth, light_first_list_depth, 1));

@@ -75,7 +75,8 @@ struct SpaceTimeClassification::Impl {
     std::vector<std::uint32_t> moving;
     int bins = 1;
     float start = 0.0f, span = 1.0f;
-    float shared_point_size = 0.0f;  // largest box of shared points (light buffers' apex), as the static part's
+    float shared_point_size = 0.0f;  // largest box of shared points, as the static part's
+    float apex_margin = 0.0f;        // light buffers' apex: the points' box grown by this
     // The moving triangles placed at the last call's times (PlacedTimes), and their bytes.
     mutable std::mutex placed_mutex;
     mutable std::vector<std::pair<float, std::shared_ptr<const std::vector<Triangle>>>> placed_last;
@@ -105,6 +106,7 @@ struct SpaceTimeClassification::Impl {
         context.origin_margin = double(scale) * 1e-5;
         context.direction_margin = 1e-6;
         shared_point_size = scene.bounds().diagonal() * raycls::kSharedPointFraction;
+        apex_margin = scene.bounds().diagonal() * raycls::kApexMarginFraction;
         if (settings.static_packets) still.kd_tree().prepare_packet_queries();
         slots = std::vector<std::atomic<raycls::MovingBin*>>(std::size_t(bins));
         for (auto& b : slots) b.store(nullptr);
@@ -242,7 +244,7 @@ public:
         place.bin = &bin;
         place.tree = shared_.frame == raycls::Frame::space
                          ? &bin.space_tree()
-                         : &bin.light_buffer(shared_.points, impl_.shared_point_size * 0.25f);
+                         : &bin.light_buffer(shared_.points, impl_.apex_margin);
         place.frame = place.tree->split_origins ? raycls::Frame::space : shared_.frame;
     }
 
