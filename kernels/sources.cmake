@@ -40,6 +40,7 @@ foreach(source
     kdtree/packet/one_origin_frustum.cpp
     kdtree/packet/packet_kernels.cpp
     kdtree/packet/packet_lanes.cpp
+    kdtree/packet/packet_set_ranges.cpp
     kdtree/packet/packet_tables.cpp
     kdtree/packet/packet_traversal.cpp
     vlf/directions/direction_set.cpp

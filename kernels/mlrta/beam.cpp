@@ -1,11 +1,8 @@
 #include "mlrta/beam.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <span>
-#include <type_traits>
-
-#include "common/ray_validity.hpp"
-#include "simd/sse_lanes.hpp"
 
 namespace beamtrace::mlrta {
 
@@ -20,11 +17,6 @@ void extend(Interval& i, float v, bool first) {
         i = {std::min(i.lo, v), std::max(i.hi, v)};
 }
 
-int dominant_axis(Float3 d) {
-    const float ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
-    return ax >= ay ? (ax >= az ? 0 : 2) : (ay >= az ? 1 : 2);
-}
-
 }  // namespace
 
 void Beam::add(const Ray& ray) {
@@ -32,7 +24,7 @@ void Beam::add(const Ray& ray) {
     if (first) {
         for (int k = 0; k < 3; ++k) sign[k] = positive(ray.dir[k]) ? 1 : -1;
         coherent = true;
-        main_axis = dominant_axis(ray.dir);
+        main_axis = kdtree::dominant_axis(ray.dir.x, ray.dir.y, ray.dir.z);
     }
     for (int k = 0; k < 3; ++k) {
         if (ray.dir[k] == 0.0f || (positive(ray.dir[k]) ? 1 : -1) != sign[k]) coherent = false;
@@ -56,147 +48,47 @@ void Beam::add(const Ray& ray) {
     ++rays;
 }
 
-namespace {
-
-using Lanes = sse::Floats;  // the library's baseline instruction set
-using LaneMask = sse::Mask;
-using sse::bits_of;
-using sse::lanes_on;
-constexpr int kLanes = int(Lanes::size);
-
-// Running minimum and maximum over the selected lanes of 16 values.
-struct LaneRange {
-    Lanes lo = Lanes(kInfinity), hi = Lanes(-kInfinity);
-    void add(const LaneMask& on, const Lanes& v) {
-        lo = xsimd::min(lo, xsimd::select(on, v, Lanes(kInfinity)));
-        hi = xsimd::max(hi, xsimd::select(on, v, Lanes(-kInfinity)));
-    }
-    void add(const Lanes& v) {  // every lane on: the same values without the selects
-        lo = xsimd::min(lo, v);
-        hi = xsimd::max(hi, v);
-    }
-    Interval interval() const {
-        alignas(16) float l[kLanes], h[kLanes];
-        lo.store_aligned(l);
-        hi.store_aligned(h);
-        Interval r{l[0], h[0]};
-        for (int i = 1; i < kLanes; ++i) r = {std::min(r.lo, l[i]), std::max(r.hi, h[i])};
-        return r;
-    }
-};
-
-}  // namespace
-
 void Beam::add(const Packet16& packet) {
     const Packet16* one = &packet;
     add(std::span<const Packet16* const>(&one, 1));
 }
 
-void Beam::add(std::span<const Packet16* const> packets) {
-    // Per-component ranges of the active rays (SSE, 4 lanes at a time) over every packet, reduced
-    // once, then the slopes by interval division: looser than per-ray slopes but a few operations
-    // per ray (this runs for every packet of every tile). Rays that describe no segment are traced
-    // by nobody and must not widen (or poison) the beam: they are masked out, like inactive lanes.
-    // Lengths are measured along the main axis of the first ray (any axis on which every ray has a
-    // non-zero component will do; a ray with a zero one makes the beam incoherent).
-    LaneRange d[3], s[3], len, near, far;
-    std::uint32_t negative[3] = {0, 0, 0};
-    bool zero = false, same_origin = true, any = false;
-    int main_axis_of_beam = 0;
-    Lanes lead_org[3];
-    Float3 first_origin;
-    std::uint32_t rays_added = 0;
-    for (const Packet16* packet_ptr : packets) {
-        const Packet16& packet = *packet_ptr;
-        const std::uint32_t active = packet.active & 0xFFFFu & segment_lanes(packet);
-        if (active == 0) continue;
-        const float* dir[3] = {packet.dir_x, packet.dir_y, packet.dir_z};
-        const float* org[3] = {packet.org_x, packet.org_y, packet.org_z};
-        if (!any) {
-            const int lead = __builtin_ctz(active);
-            main_axis_of_beam = main_of(packet, active);
-            first_origin = Float3{org[0][lead], org[1][lead], org[2][lead]};
-            for (int k = 0; k < 3; ++k) lead_org[k] = Lanes(org[k][lead]);
-            any = true;
-        }
-        rays_added += std::uint32_t(__builtin_popcount(active));
-        std::uint32_t neg[3] = {0, 0, 0}, zeros = 0, same_bits = 0;
-        // Four lanes at a time; groups with every lane on skip the masking (the same values).
-        auto four_lanes = [&](int base, auto all_on) {
-            const LaneMask on = lanes_on((active >> base) & 0xFu);
-            auto add = [&](LaneRange& r, const Lanes& v) {
-                if constexpr (decltype(all_on)::value)
-                    r.add(v);
-                else
-                    r.add(on, v);
-            };
-            const Lanes tnear = Lanes::load_unaligned(packet.tnear + base),
-                        tfar = Lanes::load_unaligned(packet.tfar + base);
-            LaneMask same = on;
-            for (int k = 0; k < 3; ++k) {
-                const Lanes v = Lanes::load_unaligned(dir[k] + base), o = Lanes::load_unaligned(org[k] + base);
-                zeros |= bits_of(v == Lanes(0.0f)) << base;
-                neg[k] |= std::uint32_t(_mm_movemask_ps(v)) << base;  // sign bits
-                add(d[k], v);
-                add(s[k], o + v * tnear);
-                same = same & (o == lead_org[k]);
-            }
-            same_bits |= bits_of(same) << base;
-            const Lanes mag = xsimd::abs(Lanes::load_unaligned(dir[main_axis_of_beam] + base));
-            add(len, (tfar - tnear) * mag);
-            add(near, tnear * mag);
-            add(far, tfar * mag);
-        };
-        for (int base = 0; base < 16; base += kLanes) {
-            const std::uint32_t four = (active >> base) & 0xFu;
-            if (four == 0xFu)
-                four_lanes(base, std::true_type{});
-            else if (four != 0)  // (no lane on: nothing to add)
-                four_lanes(base, std::false_type{});
-        }
-        zero = zero || (zeros & active) != 0;
-        same_origin = same_origin && (same_bits & active) == active;
-        for (int k = 0; k < 3; ++k) {
-            // One sign per axis: bit 0 some ray negative, bit 1 some positive (both: incoherent).
-            const std::uint32_t n = neg[k] & active;
-            negative[k] |= n == 0 ? 2u : (n == active ? 1u : 3u);
-        }
-    }
-    if (!any) return;
+void Beam::add(std::span<const Packet16* const> packets) { add(packets, kdtree::packet_set_ranges); }
+
+void Beam::add(std::span<const Packet16* const> packets, kdtree::PacketSetRangesKernel ranges_of) {
+    // Per-component ranges of the active rays over every packet (a few operations per ray: this runs
+    // for every packet of every tile), then the slopes by interval division: looser than per-ray
+    // slopes. Rays that describe no segment are traced by nobody and must not widen (or poison) the
+    // beam: they are left out, like inactive lanes. Lengths are measured along the main axis of the
+    // first ray (any axis on which every ray has a non-zero component will do; a ray with a zero one
+    // makes the beam incoherent).
+    kdtree::PacketSetRanges r;
+    ranges_of(packets, r);
+    if (r.rays == 0) return;
     Beam b;
     b.empty = false;
-    b.rays = rays_added;
-    b.main_axis = main_axis_of_beam;
-    Interval start[3], dir_range[3];
-    for (int k = 0; k < 3; ++k) {
-        start[k] = s[k].interval();
-        dir_range[k] = d[k].interval();
-    }
-    b.starts.lower = Float3{start[0].lo, start[1].lo, start[2].lo};
-    b.starts.upper = Float3{start[0].hi, start[1].hi, start[2].hi};
-    b.length = len.interval();
-    b.one_origin = same_origin;
-    b.origin = first_origin;
-    b.apex_near = near.interval();
-    b.apex_far = far.interval();
+    b.rays = r.rays;
+    b.main_axis = r.main_axis;
+    b.starts.lower = Float3{r.start[0].lo, r.start[1].lo, r.start[2].lo};
+    b.starts.upper = Float3{r.start[0].hi, r.start[1].hi, r.start[2].hi};
+    b.length = r.length;
+    b.one_origin = r.same_origin;
+    b.origin = r.first_origin;
+    b.apex_near = r.near;
+    b.apex_far = r.far;
     b.pad = pad;
-    b.coherent = !zero;
+    b.coherent = !r.zero;
     for (int k = 0; k < 3; ++k) {
-        if (negative[k] == 3u) b.coherent = false;
-        b.sign[k] = negative[k] == 1u ? -1 : 1;
+        if (r.signs[k] == 3u) b.coherent = false;  // one sign per axis
+        b.sign[k] = r.signs[k] == 1u ? -1 : 1;
     }
     if (b.coherent) {
         for (int k = 0; k < 3; ++k) {
-            const Interval inv = {1.0f / dir_range[k].hi, 1.0f / dir_range[k].lo};  // one sign
-            for (int j = 0; j < 3; ++j) b.slope[k][j] = j == k ? Interval{1.0f, 1.0f} : widen(dir_range[j] * inv, 0.0f);
+            const Interval inv = {1.0f / r.dir[k].hi, 1.0f / r.dir[k].lo};  // one sign
+            for (int j = 0; j < 3; ++j) b.slope[k][j] = j == k ? Interval{1.0f, 1.0f} : widen(r.dir[j] * inv, 0.0f);
         }
     }
     merge(b);
-}
-
-int Beam::main_of(const Packet16& packet, std::uint32_t active) {
-    const int i = __builtin_ctz(active);
-    return dominant_axis(Float3{packet.dir_x[i], packet.dir_y[i], packet.dir_z[i]});
 }
 
 void Beam::merge(const Beam& o) {

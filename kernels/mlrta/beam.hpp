@@ -10,6 +10,7 @@
 
 #include "beamtrace/ray.hpp"
 #include "common/interval.hpp"
+#include "kdtree/packet/packet_set_ranges.hpp"
 
 namespace beamtrace::mlrta {
 
@@ -36,8 +37,10 @@ struct Beam {
     // Adds the active rays of a packet (slopes from per-component ranges: a little looser, cheaper).
     void add(const Packet16& packet);
     // Adds the active rays of several packets at once: their ranges reduced once, slopes from the
-    // ranges over all of them (looser than merging the packets' beams, and cheaper).
+    // ranges over all of them (looser than merging the packets' beams, and cheaper); `ranges_of` is a
+    // kernel table's form of kdtree::packet_set_ranges (the reference when not given).
     void add(std::span<const Packet16* const> packets);
+    void add(std::span<const Packet16* const> packets, kdtree::PacketSetRangesKernel ranges_of);
     void merge(const Beam& other);
     // Sets the absolute padding from the size of the scene the beam is traced in.
     void set_scene_scale(const Box& scene_bounds);
@@ -48,8 +51,6 @@ struct Beam {
     // Range of the parameter t' at which the rays cross the plane x_k = p (t' = 0 at the starts).
     Interval plane_t(int k, float p) const;
 
-private:
-    static int main_of(const Packet16& packet, std::uint32_t active);
 };
 
 // A beam from a rectangle of pixels of a pinhole camera without generating its rays: the rays of

@@ -58,7 +58,7 @@ Beam TileTracer<kOcclusion, kCount>::tile_beam(int x0, int y0, int x1, int y1) c
                 beam.merge(beams_[std::size_t(cy) * std::size_t(cells_) + std::size_t(cx)]);
         return beam;
     }
-    beam.add(packets_of(x0, y0, x1, y1));
+    beam.add(packets_of(x0, y0, x1, y1), m_.kernels().setup.set_ranges);
     return beam;
 }
 
@@ -92,7 +92,8 @@ void TileTracer<kOcclusion, kCount>::trace_initial_tile(int x0, int y0) {
             b = Beam{};
             b.pad = pad_;
             b.add(packets_of(x0 + cx * cell_, y0 + cy * cell_, std::min(x0 + (cx + 1) * cell_, x1),
-                             std::min(y0 + (cy + 1) * cell_, y1)));
+                             std::min(y0 + (cy + 1) * cell_, y1)),
+                  m_.kernels().setup.set_ranges);
         }
     trace_tile(x0, y0, x1, y1, root_entry(m_), nullptr, false);
 }

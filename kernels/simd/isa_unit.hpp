@@ -11,6 +11,7 @@
 #include "kdtree/packet/one_origin_frustum_impl.hpp"
 #include "kdtree/packet/packet_kernels.hpp"
 #include "kdtree/packet/packet_lanes_impl.hpp"
+#include "kdtree/packet/packet_set_ranges_impl.hpp"
 #include "simd/lane_bits.hpp"
 #include "vlf/stream/packet_lookup_impl.hpp"
 #include "vlf/vlf_kernels.hpp"
@@ -47,7 +48,7 @@ struct UnitKernels {
         return {kdtree::simd_impl::packet_lanes<Arch>,     kdtree::simd_impl::group_ranges<Arch>,
                 kdtree::simd_impl::enter_cell<Arch>,       kdtree::simd_impl::farthest_distance<Arch>,
                 kdtree::simd_impl::make_one_origin_frustum<Arch>, beamtrace::simd_impl::make_watertight_packet<Arch>,
-                kdtree::simd_impl::make_lane_box_rays<Arch>};
+                kdtree::simd_impl::make_lane_box_rays<Arch>, kdtree::simd_impl::packet_set_ranges<Arch>};
     }
     // Every ISA's table of packet traversal kernels has its own forms.
     static constexpr kdtree::PacketKernels packet_kernels(Isa isa) {
