@@ -125,6 +125,7 @@ template <bool kOcclusion, bool kCount>
     const Triangle* corners = kd.leaf_triangles.data() + node.offset();
     std::uint32_t culled = 0;  // bit j % 16: the packet's frustum misses leaf[j]
     const bool cull = t.frustum.valid && count > kMinCulledLeaf;
+    bool shorter = false;  // some lane's segment got shorter: the reach is computed again after the leaf
     for (std::uint32_t j = 0; j < count; ++j) {
         if (cull && j % 16 == 0)  // the next 16 triangles decided at once (SIMD, from the corner rows)
             culled = packet_kernels.frustum_cull(t.frustum, c.tables.rows(), node.offset() + j,
@@ -150,10 +151,9 @@ template <bool kOcclusion, bool kCount>
                     t.reach = -kInfinity;
                     return false;
                 }
-                t.reach = farthest(c, t);
+                shorter = true;
             }
         } else {
-            bool nearer = false;
             for (std::uint32_t b = lanes.mask; b; b &= b - 1) {
                 const int i = __builtin_ctz(b);
                 if (lanes.t[i] < t.hits->t[i]) {
@@ -162,12 +162,13 @@ template <bool kOcclusion, bool kCount>
                     t.hits->u[i] = lanes.u[i];
                     t.hits->v[i] = lanes.v[i];
                     t.wp.tfar[i] = lanes.t[i];
-                    nearer = true;
+                    shorter = true;
                 }
             }
-            if (nearer) t.reach = farthest(c, t);
         }
     }
+    // Read only by the decisions between leaves (test (2), the cells skipped beyond every lane's end).
+    if (shorter) t.reach = farthest(c, t);
     return true;
 }
 
