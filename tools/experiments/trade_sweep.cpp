@@ -63,8 +63,8 @@ std::vector<std::pair<std::string, KdBuildRules>> kd_variants() {
     add_variant(v, " no rule 2", [](R& r) { r.flat_cell_rule = false; });
     add_variant(v, " no rule 3", [](R& r) { r.tiny_cell_rule = false; });
     add_variant(v, " empty 0.3", [](R& r) { r.empty_cell_min_volume_fraction = 0.3f; });
-    add_variant(v, " Ci 0.75", [](R& r) { r.intersection_cost = 0.75f; });
-    add_variant(v, " Ci 3", [](R& r) { r.intersection_cost = 3.0f; });
+    add_variant(v, " Ci 0.1", [](R& r) { r.intersection_cost = 0.1f; });
+    add_variant(v, " Ci 1.5", [](R& r) { r.intersection_cost = 1.5f; });  // the default before 2026-12-04
     return v;
 }
 
