@@ -20,9 +20,9 @@ namespace beamtrace {
 struct KdBuildRules {
     // Surface-area-heuristic costs of one traversal step and of one triangle test. A test is cheap
     // next to a step here (16 rays a test, or 16 triangles a test for one ray, while every step is a
-    // dependent load): 0.25 traces bunny 1.4x faster than 1.5 (docs/kdtree.md, "SAH constants").
+    // dependent load): 0.15 traces bunny 1.4x faster than 1.5 (docs/kdtree.md, "SAH constants").
     float traversal_cost = 1.0f;
-    float intersection_cost = 0.25f;
+    float intersection_cost = 0.15f;
 
     // MLRTA rule 1: always cut off an empty cell whose volume is at least this fraction of its parent.
     bool empty_cell_rule = true;
