@@ -117,15 +117,31 @@ inline Hit walk(const KdTree::Impl& tree, const Ray& ray, const Float3& inv, Wat
 
 }  // namespace
 
-template <bool kOcclusion, bool kCount, bool kSmallestId>
-Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counters) {
+namespace {
+
+// A ray from the root: validity, the cut to the tree's box, the walk.
+template <bool kOcclusion, bool kCount, bool kSmallestId, bool kRows>
+Hit from_root(const KdTree::Impl& tree, const Ray& ray, const float* rows, std::size_t stride, QueryCounters* counters) {
     if constexpr (kCount) ++counters->rays;
     if (!describes_segment(ray)) return Hit{};
     const Float3 inv{1.0f / ray.dir.x, 1.0f / ray.dir.y, 1.0f / ray.dir.z};
     float tmin, tmax;
     if (!clip_to_box(ray, inv, tree.bounds, tmin, tmax)) return Hit{};
-    return walk<kOcclusion, kCount, kSmallestId, false>(tree, ray, inv, make_watertight_ray(ray), 0, tmin, tmax, Hit{},
-                                                        nullptr, 0, counters);
+    return walk<kOcclusion, kCount, kSmallestId, kRows>(tree, ray, inv, make_watertight_ray(ray), 0, tmin, tmax, Hit{},
+                                                        rows, stride, counters);
+}
+
+}  // namespace
+
+template <bool kOcclusion, bool kCount, bool kSmallestId>
+Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counters) {
+    return from_root<kOcclusion, kCount, kSmallestId, false>(tree, ray, nullptr, 0, counters);
+}
+
+template <bool kOcclusion, bool kCount>
+Hit traverse_ray_in_rows(const KdTree::Impl& tree, const Ray& ray, const float* rows, std::size_t stride,
+                         QueryCounters* counters) {
+    return from_root<kOcclusion, kCount, false, true>(tree, ray, rows, stride, counters);
 }
 
 template <bool kOcclusion, bool kCount>
@@ -147,6 +163,14 @@ template Hit traverse_subtree<true, false>(const KdTree::Impl&, const Ray&, cons
 template Hit traverse_subtree<true, true>(const KdTree::Impl&, const Ray&, const Float3&, const WatertightRay&,
                                           std::uint32_t, float, float, const Hit&, const float*, std::size_t,
                                           QueryCounters*);
+template Hit traverse_ray_in_rows<false, false>(const KdTree::Impl&, const Ray&, const float*, std::size_t,
+                                               QueryCounters*);
+template Hit traverse_ray_in_rows<false, true>(const KdTree::Impl&, const Ray&, const float*, std::size_t,
+                                              QueryCounters*);
+template Hit traverse_ray_in_rows<true, false>(const KdTree::Impl&, const Ray&, const float*, std::size_t,
+                                              QueryCounters*);
+template Hit traverse_ray_in_rows<true, true>(const KdTree::Impl&, const Ray&, const float*, std::size_t,
+                                             QueryCounters*);
 template Hit traverse_ray<false, false>(const KdTree::Impl&, const Ray&, QueryCounters*);
 template Hit traverse_ray<false, true>(const KdTree::Impl&, const Ray&, QueryCounters*);
 template Hit traverse_ray<true, false>(const KdTree::Impl&, const Ray&, QueryCounters*);

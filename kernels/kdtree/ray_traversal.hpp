@@ -45,6 +45,12 @@ inline bool clip_to_box(const Ray& ray, const Float3& inv, const Box& box, float
 template <bool kOcclusion, bool kCount, bool kSmallestId = false>
 Hit traverse_ray(const KdTree::Impl& tree, const Ray& ray, QueryCounters* counters);
 
+// traverse_ray with the leaves tested from the nine corner rows `rows` (stride apart;
+// kdtree::PacketTables), 16 triangles at a time: the same answers (the stream's single rays).
+template <bool kOcclusion, bool kCount>
+Hit traverse_ray_in_rows(const KdTree::Impl& tree, const Ray& ray, const float* rows, std::size_t stride,
+                         QueryCounters* counters);
+
 // The same traversal of the subtree at `node` for [tmin, tmax] (the interval the traversal from the
 // root has there), going on from `best`, the ray's closest hit so far (Hit{} for none; occlusion: Hit{}),
 // with inv the direction's reciprocals (1 / dir, as traverse_ray takes them) and wray =

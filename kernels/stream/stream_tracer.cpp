@@ -17,7 +17,6 @@
 #include "common/access.hpp"
 #include "common/huge_page_allocator.hpp"
 #include "common/query_runner.hpp"
-#include "common/ray_validity.hpp"
 #include "kdtree/packet/packet_traversal.hpp"
 #include "kdtree/ray_traversal.hpp"
 #include "mlrta/shadow_reversal.hpp"
@@ -212,17 +211,8 @@ private:
     template <bool kCount>
     void singles(std::uint32_t begin, std::uint32_t end, QueryCounters* c) const {
         const kdtree::CornerRows rows = context_.tables.rows();
-        for (std::uint32_t k = begin; k < end; ++k) {
-            const Ray& r = rays_[k];
-            if constexpr (kCount) ++c->rays;
-            Hit h;
-            const Float3 inv{1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z};
-            float tmin, tmax;
-            if (describes_segment(r) && kdtree::clip_to_box(r, inv, kd_.bounds, tmin, tmax))
-                h = kdtree::traverse_subtree<kOcclusion, kCount>(kd_, r, inv, make_watertight_ray(r), 0, tmin, tmax,
-                                                                 Hit{}, rows.at, rows.stride, c);
-            write(sorted_.order[k], h);
-        }
+        for (std::uint32_t k = begin; k < end; ++k)
+            write(sorted_.order[k], kdtree::traverse_ray_in_rows<kOcclusion, kCount>(kd_, rays_[k], rows.at, rows.stride, c));
     }
 
     // A cell's rays, each origin's next to each other (the sort's origin hash; two origins that share
