@@ -115,10 +115,6 @@ inline Hit walk(const KdTree::Impl& tree, const Ray& ray, const Float3& inv, Wat
     }
 }
 
-}  // namespace
-
-namespace {
-
 // A ray from the root: validity, the cut to the tree's box, the walk.
 template <bool kOcclusion, bool kCount, bool kSmallestId, bool kRows>
 Hit from_root(const KdTree::Impl& tree, const Ray& ray, const float* rows, std::size_t stride, QueryCounters* counters) {
@@ -151,30 +147,18 @@ Hit traverse_subtree(const KdTree::Impl& tree, const Ray& ray, const Float3& inv
     return walk<kOcclusion, kCount, false, true>(tree, ray, inv, wray, node, tmin, tmax, best, rows, stride, counters);
 }
 
-template Hit traverse_subtree<false, false>(const KdTree::Impl&, const Ray&, const Float3&, const WatertightRay&,
-                                            std::uint32_t, float, float, const Hit&, const float*, std::size_t,
-                                            QueryCounters*);
-template Hit traverse_subtree<false, true>(const KdTree::Impl&, const Ray&, const Float3&, const WatertightRay&,
-                                           std::uint32_t, float, float, const Hit&, const float*, std::size_t,
-                                           QueryCounters*);
-template Hit traverse_subtree<true, false>(const KdTree::Impl&, const Ray&, const Float3&, const WatertightRay&,
-                                           std::uint32_t, float, float, const Hit&, const float*, std::size_t,
-                                           QueryCounters*);
-template Hit traverse_subtree<true, true>(const KdTree::Impl&, const Ray&, const Float3&, const WatertightRay&,
-                                          std::uint32_t, float, float, const Hit&, const float*, std::size_t,
-                                          QueryCounters*);
-template Hit traverse_ray_in_rows<false, false>(const KdTree::Impl&, const Ray&, const float*, std::size_t,
-                                               QueryCounters*);
-template Hit traverse_ray_in_rows<false, true>(const KdTree::Impl&, const Ray&, const float*, std::size_t,
-                                              QueryCounters*);
-template Hit traverse_ray_in_rows<true, false>(const KdTree::Impl&, const Ray&, const float*, std::size_t,
-                                              QueryCounters*);
-template Hit traverse_ray_in_rows<true, true>(const KdTree::Impl&, const Ray&, const float*, std::size_t,
-                                             QueryCounters*);
-template Hit traverse_ray<false, false>(const KdTree::Impl&, const Ray&, QueryCounters*);
-template Hit traverse_ray<false, true>(const KdTree::Impl&, const Ray&, QueryCounters*);
-template Hit traverse_ray<true, false>(const KdTree::Impl&, const Ray&, QueryCounters*);
-template Hit traverse_ray<true, true>(const KdTree::Impl&, const Ray&, QueryCounters*);
+#define BEAMTRACE_SINGLE_RAY_WALKS(kOcclusion, kCount)                                                               \
+    template Hit traverse_ray<kOcclusion, kCount>(const KdTree::Impl&, const Ray&, QueryCounters*);                     \
+    template Hit traverse_ray_in_rows<kOcclusion, kCount>(const KdTree::Impl&, const Ray&, const float*, std::size_t,  \
+                                                          QueryCounters*);                                             \
+    template Hit traverse_subtree<kOcclusion, kCount>(const KdTree::Impl&, const Ray&, const Float3&,                  \
+                                                      const WatertightRay&, std::uint32_t, float, float, const Hit&,   \
+                                                      const float*, std::size_t, QueryCounters*);
+BEAMTRACE_SINGLE_RAY_WALKS(false, false)
+BEAMTRACE_SINGLE_RAY_WALKS(false, true)
+BEAMTRACE_SINGLE_RAY_WALKS(true, false)
+BEAMTRACE_SINGLE_RAY_WALKS(true, true)
+#undef BEAMTRACE_SINGLE_RAY_WALKS
 template Hit traverse_ray<false, false, true>(const KdTree::Impl&, const Ray&, QueryCounters*);
 template Hit traverse_ray<false, true, true>(const KdTree::Impl&, const Ray&, QueryCounters*);
 

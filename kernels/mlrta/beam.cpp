@@ -53,8 +53,6 @@ void Beam::add(const Packet16& packet) {
     add(std::span<const Packet16* const>(&one, 1));
 }
 
-void Beam::add(std::span<const Packet16* const> packets) { add(packets, kdtree::packet_set_ranges); }
-
 void Beam::add(std::span<const Packet16* const> packets, kdtree::PacketSetRangesKernel ranges_of) {
     // Per-component ranges of the active rays over every packet (a few operations per ray: this runs
     // for every packet of every tile), then the slopes by interval division: looser than per-ray

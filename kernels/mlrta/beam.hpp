@@ -39,8 +39,8 @@ struct Beam {
     // Adds the active rays of several packets at once: their ranges reduced once, slopes from the
     // ranges over all of them (looser than merging the packets' beams, and cheaper); `ranges_of` is a
     // kernel table's form of kdtree::packet_set_ranges (the reference when not given).
-    void add(std::span<const Packet16* const> packets);
-    void add(std::span<const Packet16* const> packets, kdtree::PacketSetRangesKernel ranges_of);
+    void add(std::span<const Packet16* const> packets,
+             kdtree::PacketSetRangesKernel ranges_of = kdtree::packet_set_ranges);
     void merge(const Beam& other);
     // Sets the absolute padding from the size of the scene the beam is traced in.
     void set_scene_scale(const Box& scene_bounds);

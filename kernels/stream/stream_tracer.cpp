@@ -212,7 +212,8 @@ private:
     void singles(std::uint32_t begin, std::uint32_t end, QueryCounters* c) const {
         const kdtree::CornerRows rows = context_.tables.rows();
         for (std::uint32_t k = begin; k < end; ++k)
-            write(sorted_.order[k], kdtree::traverse_ray_in_rows<kOcclusion, kCount>(kd_, rays_[k], rows.at, rows.stride, c));
+            write(sorted_.order[k],
+                  kdtree::traverse_ray_in_rows<kOcclusion, kCount>(kd_, rays_[k], rows.at, rows.stride, c));
     }
 
     // A cell's rays, each origin's next to each other (the sort's origin hash; two origins that share

@@ -135,6 +135,18 @@ void expect_same(const LaneBoxRays& a, const LaneBoxRays& b, const std::string& 
     EXPECT_SAME_FLOAT(a.pad, b.pad, at + " pad");
 }
 
+// The SIMD instruction sets this CPU has (the others reported as skipped).
+std::vector<Isa> isas_to_test() {
+    std::vector<Isa> isas;
+    for (Isa isa : {Isa::sse42, Isa::avx2, Isa::avx512}) {
+        if (isa_available(isa))
+            isas.push_back(isa);
+        else
+            std::printf("%s is not available on this CPU: skipped\n", isa_name(isa));
+    }
+    return isas;
+}
+
 }  // namespace
 
 TEST(PacketSetupKernels, EveryInstructionSetGivesTheReferenceSetUpBitForBit) {
@@ -142,11 +154,7 @@ TEST(PacketSetupKernels, EveryInstructionSetGivesTheReferenceSetUpBitForBit) {
     std::mt19937 rng(23);
     std::uniform_real_distribution<float> u(-1.5f, 1.5f);
     int tested = 0, frusta = 0, kept = 0, zero_ties = 0;
-    for (Isa isa : {Isa::sse42, Isa::avx2, Isa::avx512}) {
-        if (!isa_available(isa)) {
-            std::printf("%s is not available on this CPU: skipped\n", isa_name(isa));
-            continue;
-        }
+    for (Isa isa : isas_to_test()) {
         const PacketSetupKernels& k = simd::select<PacketKernels>(isa).setup;
         ASSERT_NE(k.lanes, ref.lanes) << isa_name(isa) << " has its own set-up kernels";
         for (int round = 0; round < 6000; ++round) {
@@ -210,11 +218,7 @@ TEST(PacketSetupKernels, EveryInstructionSetGivesTheReferenceSetRangesBitForBit)
     const PacketSetupKernels& ref = simd::select<PacketKernels>(Isa::scalar).setup;
     std::mt19937 rng(29);
     int taken = 0, empty = 0, incoherent = 0, one_origin = 0;
-    for (Isa isa : {Isa::sse42, Isa::avx2, Isa::avx512}) {
-        if (!isa_available(isa)) {
-            std::printf("%s is not available on this CPU: skipped\n", isa_name(isa));
-            continue;
-        }
+    for (Isa isa : isas_to_test()) {
         const PacketSetupKernels& k = simd::select<PacketKernels>(isa).setup;
         ASSERT_NE(k.set_ranges, ref.set_ranges) << isa_name(isa) << " has its own kernel";
         for (int round = 0; round < 3000; ++round) {

@@ -59,7 +59,7 @@ std::uint32_t block_meeting(const BlockBounds& block, const Box& box, float t0) 
                 if (a != b) miss = miss | (entry_lo[a] > exit_hi[b]);
         bits |= simd::lane_bits<Arch>(~miss) << base;
     }
-    return block.count >= 32 ? bits : bits & ((1u << block.count) - 1u);
+    return bits & ((1u << block.count) - 1u);  // count <= BlockBounds::kPackets = 16
 }
 
 }  // namespace beamtrace::kdtree::simd_impl

@@ -251,7 +251,7 @@ void interval_traversal(const PacketTraversalContext& c, TracedPacket* packets, 
             if (n == 1) {
                 if (!visit_leaf<kOcclusion, kCount>(c, index, c0, packets[0], false, counters)) return;
                 reach = packets[0].reach;
-            } else if (const Box& box = c.tables.geometry_boxes[index]; !packet_misses_box(pb, box, c0, reach)) {
+            } else if (const Box& box = geometry_boxes[index]; !packet_misses_box(pb, box, c0, reach)) {
                 // Test (2) of every packet at once, then the packets that pass, one by one.
                 const std::uint32_t meeting = c.tables.kernels->block_meeting(block, box, c0);
                 for (std::uint32_t m = meeting; m; m &= m - 1) {
