@@ -15,11 +15,31 @@ constexpr std::size_t kLargestFilteredList = 16384;
 
 }  // namespace
 
-void CellContext::add_bytes(std::size_t b) {
-    const std::size_t now = bytes.fetch_add(b, std::memory_order_relaxed) + b;
+namespace {
+
+void raise_peak(std::atomic<std::size_t>& peak_bytes, std::size_t now) {
     std::size_t peak = peak_bytes.load(std::memory_order_relaxed);
     while (now > peak && !peak_bytes.compare_exchange_weak(peak, now, std::memory_order_relaxed)) {
     }
+}
+
+}  // namespace
+
+void CellContext::add_bytes(std::size_t b) {
+    raise_peak(peak_bytes, bytes.fetch_add(b, std::memory_order_relaxed) + b);
+}
+
+bool CellContext::reserve_bytes(std::size_t b) {
+    if (memory_budget == 0) {
+        add_bytes(b);
+        return true;
+    }
+    std::size_t now = bytes.load(std::memory_order_relaxed);
+    do {
+        if (now + b > memory_budget) return false;
+    } while (!bytes.compare_exchange_weak(now, now + b, std::memory_order_relaxed));
+    raise_peak(peak_bytes, now + b);
+    return true;
 }
 
 void CellTree::add_slots(Cell& c) const {
@@ -63,6 +83,10 @@ CellTree::~CellTree() {
 
 Cell* CellTree::make_child(const Cell& parent, int index) const {
     const auto start = std::chrono::steady_clock::now();
+    const auto add_build_time = [&] {
+        const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start);
+        context_.build_ns.fetch_add(std::uint64_t(ns.count()), std::memory_order_relaxed);
+    };
     auto c = std::make_unique<Cell>();
     c->bounds = child_bounds(parent.bounds, index, split_origins_);
     c->depth = parent.depth + 1;
@@ -90,7 +114,12 @@ Cell* CellTree::make_child(const Cell& parent, int index) const {
         entries = c->list.size();
     }
     if (!c->final) add_slots(*c);
-    context_.add_bytes(c->memory_bytes(slots()));
+    if (!context_.reserve_bytes(c->memory_bytes(slots()))) {
+        // Over the budget (a light buffer's tile can be large): dropped; its rays go to the kd-tree.
+        context_.budget_full.store(true, std::memory_order_relaxed);
+        add_build_time();
+        return nullptr;
+    }
     context_.entries.fetch_add(entries, std::memory_order_relaxed);
     context_.entries_made.fetch_add(entries, std::memory_order_relaxed);
     context_.cells_created.fetch_add(1, std::memory_order_relaxed);
@@ -98,8 +127,7 @@ Cell* CellTree::make_child(const Cell& parent, int index) const {
     while (c->depth > deepest &&
            !context_.max_depth_reached.compare_exchange_weak(deepest, c->depth, std::memory_order_relaxed)) {
     }
-    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start);
-    context_.build_ns.fetch_add(std::uint64_t(ns.count()), std::memory_order_relaxed);
+    add_build_time();
     return c.release();
 }
 
@@ -112,6 +140,7 @@ Cell* CellTree::child(Cell& parent, int index) const {
         return nullptr;
     if (!context_.may_grow()) return nullptr;
     Cell* made = make_child(parent, index);
+    if (!made) return nullptr;
     Cell* expected = nullptr;
     if (slot.compare_exchange_strong(expected, made, std::memory_order_acq_rel, std::memory_order_acquire))
         return made;

@@ -33,13 +33,19 @@ struct CellContext {
     // made until the next call.
     std::atomic<bool> growth_stopped{false};
     std::atomic<std::uint64_t> growth_stops{0};
+    // Set within a call when a made cell did not fit in the budget (it was dropped, and no cell is
+    // made until the next call, which frees old cells first).
+    std::atomic<bool> budget_full{false};
     std::atomic<int> max_depth_reached{0};
 
     void add_bytes(std::size_t b);
+    // Adds b unless that takes the bytes held past the budget (then false, nothing added), so that the
+    // cells never hold more than the budget, whatever the size of the last cell made.
+    bool reserve_bytes(std::size_t b);
     void remove_bytes(std::size_t b) { bytes.fetch_sub(b, std::memory_order_relaxed); }
     // New cells may be made (neither the memory budget nor the work cap is exhausted).
     bool may_grow() const {
-        if (growth_stopped.load(std::memory_order_relaxed)) return false;
+        if (growth_stopped.load(std::memory_order_relaxed) || budget_full.load(std::memory_order_relaxed)) return false;
         if (capped && entries_made.load(std::memory_order_relaxed) >= entry_allowance.load(std::memory_order_relaxed))
             return false;
         return memory_budget == 0 || bytes.load(std::memory_order_relaxed) < memory_budget;

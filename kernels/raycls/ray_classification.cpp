@@ -102,7 +102,10 @@ struct RayClassification::Impl {
         context.growth_stopped.store(false, std::memory_order_relaxed);
         context.entry_allowance.fetch_add(std::uint64_t(rays) * std::uint64_t(settings.entries_per_ray),
                                           std::memory_order_relaxed);
-        if (settings.memory_budget_bytes == 0 || context.bytes.load() <= settings.memory_budget_bytes) return;
+        // A cell dropped for the budget in the last call asks for room as well as bytes over it.
+        const bool full = context.budget_full.exchange(false, std::memory_order_relaxed);
+        if (settings.memory_budget_bytes == 0 || (!full && context.bytes.load() <= settings.memory_budget_bytes))
+            return;
         std::unique_lock<std::shared_mutex> alone(use_mutex, std::try_to_lock);
         if (!alone.owns_lock()) return;
         std::vector<const CellTree*> trees{space.get()};
