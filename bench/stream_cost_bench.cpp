@@ -14,6 +14,10 @@
 //   <scene>/single_sorted   the same rays one by one (single-ray traversal) in sorted order (per ray)
 //   <scene>/single_shuffled the same rays one by one in the shuffled order (per ray)
 //   <scene>/stream          the whole StreamTracer::occluded call (per ray)
+//   <scene>/diffuse_single  diffuse bounces (one closest-hit ray per primary hit) one by one, by origin cell (per ray)
+//   <scene>/diffuse_group   the same, 16 consecutive ones a group, masked group traversal (per ray)
+//   <scene>/diffuse_stream  the whole StreamTracer::intersect call on them, shuffled (per ray)
+//   <scene>/diffuse_stream_singles  the same with StreamSettings::group_loose_rays off (per ray)
 //
 // Time is the thread's CPU time; everything runs on one thread.
 #include <benchmark/benchmark.h>
@@ -239,6 +243,97 @@ void bm_stream(benchmark::State& state, const std::string& name) {
     per_ray(state, c.rays.size());
 }
 
+// Diffuse bounces (one ray per primary hit, closest hit, shuffled): every ray loose (no shared origin
+// or point). The rays in the sort's order (by origin cell) traced one by one, or as groups of 16
+// consecutive ones by the masked group traversal; and whole StreamTracer calls with loose groups
+// (windows of sorted neighbours put in order of direction) and with loose rays one by one.
+struct DiffuseCase {
+    std::string error;
+    std::optional<KdTree> tree;
+    std::vector<Ray> shuffled, by_origin;
+};
+
+DiffuseCase& diffuse_case(const std::string& name) {
+    static std::map<std::string, std::unique_ptr<DiffuseCase>> cache;
+    auto& slot = cache[name];
+    if (slot) return *slot;
+    slot = std::make_unique<DiffuseCase>();
+    DiffuseCase& c = *slot;
+    const std::optional<std::string> spec = bench::scene_spec(name, c.error);
+    if (!spec) return c;
+    workload::WorkloadConfig config;
+    config.scene = *spec;
+    config.mode = workload::Mode::diffuse;
+    config.width = config.height = image_size();
+    const workload::Workload w = workload::make_workload(config);
+    for (std::size_t s = 0; s < w.rays.slots(); ++s)
+        if (w.rays.active(s)) c.shuffled.push_back(w.rays.ray(s));
+    std::mt19937 random(7);
+    std::shuffle(c.shuffled.begin(), c.shuffled.end(), random);
+    c.tree.emplace(KdTree::build(w.source.scene));
+    const Box box = detail::Access::impl(*c.tree).bounds;
+    c.by_origin = c.shuffled;
+    std::stable_sort(c.by_origin.begin(), c.by_origin.end(), [&](const Ray& a, const Ray& b) {
+        return stream::morton_cell(a.org, box) < stream::morton_cell(b.org, box);
+    });
+    return c;
+}
+
+void bm_diffuse_single(benchmark::State& state, const std::string& name) {
+    DiffuseCase& c = diffuse_case(name);
+    if (!c.error.empty()) return state.SkipWithError(c.error.c_str());
+    const KdTree::Impl& kd = detail::Access::impl(*c.tree);
+    std::size_t next = 0;
+    float sum = 0;
+    for (auto _ : state) {
+        sum += kdtree::intersect_one(kd, c.by_origin[next]).t;
+        next = next + 1 == c.by_origin.size() ? 0 : next + 1;
+    }
+    benchmark::DoNotOptimize(sum);
+    per_ray(state, 1);
+}
+
+void bm_diffuse_group(benchmark::State& state, const std::string& name) {
+    DiffuseCase& c = diffuse_case(name);
+    if (!c.error.empty()) return state.SkipWithError(c.error.c_str());
+    const KdTree::Impl& kd = detail::Access::impl(*c.tree);
+    std::vector<Packet16> packets;
+    for (std::size_t k = 0; k + 16 <= c.by_origin.size(); k += 16) {
+        Packet16 p;
+        for (int i = 0; i < 16; ++i) p.set_ray(i, c.by_origin[k + std::size_t(i)]);
+        p.active = 0xFFFFu;
+        packets.push_back(p);
+    }
+    std::size_t next = 0;
+    PacketHits16 hits;
+    for (auto _ : state) {
+        stream::trace_group<false, false>(kd, packets[next], &hits, nullptr, nullptr);
+        benchmark::DoNotOptimize(hits);
+        next = next + 1 == packets.size() ? 0 : next + 1;
+    }
+    per_ray(state, 16);
+    QueryCounters counters;
+    for (const Packet16& p : packets) stream::trace_group<false, true>(kd, p, &hits, nullptr, &counters);
+    const double g = double(packets.size());
+    state.counters["steps_per_group"] = double(counters.stream.group_steps) / g;
+    state.counters["leaves_per_group"] = double(counters.stream.group_leaves) / g;
+    state.counters["tests_per_group"] = double(counters.triangle_tests) / g;
+}
+
+void bm_diffuse_stream(benchmark::State& state, const std::string& name, bool loose_groups) {
+    DiffuseCase& c = diffuse_case(name);
+    if (!c.error.empty()) return state.SkipWithError(c.error.c_str());
+    StreamSettings settings;
+    settings.group_loose_rays = loose_groups;
+    const StreamTracer tracer(*c.tree, settings);
+    std::vector<Hit> hits(c.shuffled.size());
+    for (auto _ : state) {
+        tracer.intersect(c.shuffled, hits);
+        benchmark::DoNotOptimize(hits.data());
+    }
+    per_ray(state, c.shuffled.size());
+}
+
 void register_benchmarks() {
     for (const char* scene : kScenes) {
         const std::string name = scene;
@@ -256,6 +351,10 @@ void register_benchmarks() {
         reg("single_sorted", [name](benchmark::State& s) { bm_single(s, name, true); });
         reg("single_shuffled", [name](benchmark::State& s) { bm_single(s, name, false); });
         reg("stream", [name](benchmark::State& s) { bm_stream(s, name); });
+        reg("diffuse_single", [name](benchmark::State& s) { bm_diffuse_single(s, name); });
+        reg("diffuse_group", [name](benchmark::State& s) { bm_diffuse_group(s, name); });
+        reg("diffuse_stream", [name](benchmark::State& s) { bm_diffuse_stream(s, name, true); });
+        reg("diffuse_stream_singles", [name](benchmark::State& s) { bm_diffuse_stream(s, name, false); });
     }
 }
 

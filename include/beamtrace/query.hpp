@@ -50,6 +50,8 @@ struct QueryCounters {
         std::uint64_t pencil_packets = 0;     // packets of rays through one shared point (interval traversal)
         std::uint64_t pencil_rays = 0;        // rays in them
         std::uint64_t single_rays = 0;        // rays traced alone (no group)
+        std::uint64_t loose_groups = 0;       // groups of sorted neighbours in no group (masked group traversal)
+        std::uint64_t loose_group_rays = 0;   // rays in them
         std::uint64_t group_steps = 0;        // inner nodes visited by origin groups
         std::uint64_t group_leaves = 0;       // leaves tested 16 rays at a time by origin groups (fewer lanes: leaves)
         std::uint64_t group_unreached_planes = 0;  // inner nodes passed without a step: no lane's segment reaches the plane
@@ -110,6 +112,8 @@ struct QueryCounters {
         stream.pencil_packets += o.stream.pencil_packets;
         stream.pencil_rays += o.stream.pencil_rays;
         stream.single_rays += o.stream.single_rays;
+        stream.loose_groups += o.stream.loose_groups;
+        stream.loose_group_rays += o.stream.loose_group_rays;
         stream.group_steps += o.stream.group_steps;
         stream.group_leaves += o.stream.group_leaves;
         stream.group_unreached_planes += o.stream.group_unreached_planes;

@@ -39,6 +39,10 @@ struct StreamSettings {
     int sample_rays = 4096;
     // Groups of fewer rays than this go ray by ray (2 .. 16).
     int min_group_rays = 4;
+    // Rays in no group (no shared point, fewer than min_group_rays with their origin: diffuse
+    // bounces) go through the masked group traversal 16 sorted neighbours at a time (beyond the
+    // papers; docs/streams.md); false: one by one. The same answers.
+    bool group_loose_rays = true;
 
     static constexpr int kMaxSharedPoints = 16;
 

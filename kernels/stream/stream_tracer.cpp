@@ -129,22 +129,44 @@ Packet16 packet_of(const Ray* rays, std::uint32_t count) {
     return p;
 }
 
+// Loose rays (StreamTrace::loose) are grouped within windows of sorted neighbours (near origins)
+// by the octahedral cell of their direction. A window is a 256th of the call's rays, between
+// kMinLooseWindow and kMaxLooseWindow: about a 256th of the surfaces the rays start from, whatever
+// their number, so a denser stream gets finer direction cells in the same region (as many as leave
+// about 16 rays a cell).
+constexpr std::uint32_t kMinLooseWindow = 256, kMaxLooseWindow = 4096;
+
+struct LooseWindow {
+    std::uint32_t rays;
+    int direction_bits;
+};
+
+LooseWindow loose_window(std::size_t call_rays) {
+    std::uint32_t w = kMinLooseWindow;
+    while (w < kMaxLooseWindow && std::size_t(w) * 2 * 256 <= call_rays) w *= 2;
+    // 4^bits cells of about 16 rays: bits = log4(w / 16), rounded down.
+    return {w, (std::countr_zero(w) - 4) / 2};
+}
+
 template <bool kOcclusion, class Out>
 class StreamTrace {
 public:
     StreamTrace(const KdTree::Impl& kd, const KdExperimental& x, const SortedStream& sorted, std::uint32_t min_group_rays,
-                Out* out)
+                bool group_loose_rays, Out* out)
         : kd_(kd),
           context_{kd, kd.packet_tables(), x.triangle_culling},
           root_(kdtree::root_start(kd)),
           rays_(sorted.rays.data()),
           sorted_(sorted),
           min_group_rays_(min_group_rays),
+          group_loose_rays_(group_loose_rays),
+          window_(loose_window(sorted.rays.size())),
           out_(out),
           tolerance_(mlrta::reversal_tolerance(kd.bounds)) {}
 
     template <bool kCount>
     void groups(std::size_t begin, std::size_t end, QueryCounters* c) const {
+        LooseRange pending;
         for (std::size_t g = begin; g < end;) {
             const RayGroup& group = sorted_.groups[g];
             switch (group.kind) {
@@ -152,11 +174,10 @@ public:
                     g = pencils<kCount>(g, end, c);
                     continue;
                 case RayGroup::Kind::cell:
-                    cell<kCount>(group, c);
+                    cell<kCount>(group, pending, c);
                     break;
                 case RayGroup::Kind::single:
-                    if constexpr (kCount) c->stream.single_rays += group.count;
-                    singles<kCount>(group.begin, group.begin + group.count, c);
+                    defer<kCount>(pending, group.begin, group.begin + group.count, c);
                     break;
                 case RayGroup::Kind::no_segment:
                     for (std::uint32_t k = group.begin; k < group.begin + group.count; ++k)
@@ -165,9 +186,27 @@ public:
             }
             ++g;
         }
+        loose<kCount>(pending.begin, pending.end, c);
     }
 
 private:
+    // Sorted positions of loose rays not traced yet (the short runs of neighbouring groups, merged).
+    struct LooseRange {
+        std::uint32_t begin = 0, end = 0;
+    };
+
+    // [b, e) joins `pending` when it follows it; otherwise pending is traced and [b, e) takes its place.
+    template <bool kCount>
+    void defer(LooseRange& pending, std::uint32_t b, std::uint32_t e, QueryCounters* c) const {
+        if (b == e) return;
+        if (pending.end == b && pending.begin != pending.end) {
+            pending.end = e;
+            return;
+        }
+        loose<kCount>(pending.begin, pending.end, c);
+        pending = {b, e};
+    }
+
     // Pencil groups from `first` (up to kPencilBlock of them through one point, neighbours in
     // direction: the sort's order) as packets traced together by one interval traversal (the
     // kd-tree's trace_packets_together: it goes packet by packet when they do not travel together).
@@ -216,24 +255,93 @@ private:
                   kdtree::traverse_ray_in_rows<kOcclusion, kCount>(kd_, rays_[k], rows.at, rows.stride, c));
     }
 
+    // Rays of sorted positions [begin, end) in no group: in equal parts of at most 16 neighbours by
+    // the masked group traversal (they share the steps from the root down to their origins' cells),
+    // or one by one (fewer than min_group_rays_, or group_loose_rays_ off).
+    template <bool kCount>
+    void loose(std::uint32_t begin, std::uint32_t end, QueryCounters* c) const {
+        const std::uint32_t count = end - begin;
+        if (!group_loose_rays_ || count < min_group_rays_) {
+            if constexpr (kCount) c->stream.single_rays += count;
+            singles<kCount>(begin, end, c);
+            return;
+        }
+        // Windows of neighbours in the sort's order, each put in order of the octahedral cell of the
+        // rays' directions (a stable counting sort), then cut into groups.
+        const std::uint32_t bins = 1u << (2 * window_.direction_bits);
+        std::uint32_t positions[kMaxLooseWindow];
+        std::uint8_t bin[kMaxLooseWindow];
+        for (std::uint32_t w = begin; w < end; w += window_.rays) {
+            const std::uint32_t n = std::min(window_.rays, end - w);
+            if (n <= 16) {
+                for (std::uint32_t i = 0; i < n; ++i) positions[i] = w + i;
+            } else {
+                std::uint32_t first[257] = {};
+                for (std::uint32_t i = 0; i < n; ++i) {
+                    bin[i] = std::uint8_t(stream::octahedral_code(rays_[w + i].dir, window_.direction_bits));
+                    ++first[bin[i] + 1];
+                }
+                for (std::uint32_t b = 0; b < bins; ++b) first[b + 1] += first[b];
+                for (std::uint32_t i = 0; i < n; ++i) positions[first[bin[i]]++] = w + i;
+            }
+            const std::uint32_t parts = (n + 15) / 16;
+            for (std::uint32_t p = 0; p < parts; ++p) {
+                const std::uint32_t b = n * p / parts, e = n * (p + 1) / parts;
+                if constexpr (kCount) {
+                    ++c->stream.loose_groups;
+                    c->stream.loose_group_rays += e - b;
+                }
+                group_at<kCount>(positions + b, e - b, c);
+            }
+        }
+    }
+
+    // The rays of sorted positions pos[0 .. n), n <= 16, by the masked group traversal.
+    template <bool kCount>
+    void group_at(const std::uint32_t* pos, std::uint32_t n, QueryCounters* c) const {
+        Packet16 packet;
+        for (std::uint32_t i = 0; i < 16; ++i)
+            packet.set_ray(int(i), i < n ? rays_[pos[i]] : Ray{{0, 0, 0}, 0, {0, 0, 1}, 0});
+        packet.active = n >= 16 ? 0xFFFFu : (1u << n) - 1u;
+        PacketHits16 hits;
+        std::uint32_t bits = 0;
+        stream::trace_group<kOcclusion, kCount>(kd_, packet, &hits, &bits, c);
+        for (std::uint32_t i = 0; i < n; ++i) {
+            if constexpr (kOcclusion)
+                out_[sorted_.order[pos[i]]] = std::uint8_t((bits >> i) & 1u);
+            else
+                out_[sorted_.order[pos[i]]] = hits.hit(int(i));
+        }
+    }
+
+    // Sorted positions [b, e), at most 16, by the masked group traversal.
+    template <bool kCount>
+    void group(std::uint32_t b, std::uint32_t e, QueryCounters* c) const {
+        const Packet16 packet = packet_of(rays_ + b, e - b);
+        PacketHits16 hits;
+        std::uint32_t bits = 0;
+        stream::trace_group<kOcclusion, kCount>(kd_, packet, &hits, &bits, c);
+        write_packet(sorted_.order.data() + b, e - b, &hits, bits);
+    }
+
     // A cell's rays, each origin's next to each other (the sort's origin hash; two origins that share
     // a hash may interleave): runs of one origin, bit for bit, of at least min_group_rays_ rays as
-    // groups of at most 16 (masked group traversal), shorter runs one by one.
+    // groups of at most 16 (masked group traversal), shorter runs deferred as loose rays.
     template <bool kCount>
-    void cell(const RayGroup& g, QueryCounters* c) const {
-        const std::uint32_t* order = sorted_.order.data();
+    void cell(const RayGroup& g, LooseRange& pending, QueryCounters* c) const {
         const std::uint32_t end = g.begin + g.count;
+        std::uint32_t loose_begin = g.begin;  // the short runs since the last group
         for (std::uint32_t k = g.begin; k < end;) {
             const Ray& first = rays_[k];
             std::uint32_t run_end = k + 1;
             while (run_end < end && same_origin(rays_[run_end], first)) ++run_end;
             const std::uint32_t count = run_end - k;
             if (count < min_group_rays_) {
-                if constexpr (kCount) c->stream.single_rays += count;
-                singles<kCount>(k, run_end, c);
                 k = run_end;
                 continue;
             }
+            defer<kCount>(pending, loose_begin, k, c);
+            loose_begin = run_end;
             // Equal parts of at most 16 (a run of 17 makes 9 + 8, not 16 + 1).
             const std::uint32_t parts = (count + 15) / 16;
             for (std::uint32_t p = 0; p < parts; ++p) {
@@ -242,14 +350,11 @@ private:
                     ++c->stream.origin_groups;
                     c->stream.origin_group_rays += e - b;
                 }
-                const Packet16 packet = packet_of(rays_ + b, e - b);
-                PacketHits16 hits;
-                std::uint32_t bits = 0;
-                stream::trace_group<kOcclusion, kCount>(kd_, packet, &hits, &bits, c);
-                write_packet(order + b, e - b, &hits, bits);
+                group<kCount>(b, e, c);
             }
             k = run_end;
         }
+        defer<kCount>(pending, loose_begin, end, c);
     }
 
     static bool same_origin(const Ray& a, const Ray& b) {
@@ -281,6 +386,8 @@ private:
     const Ray* rays_;  // in sorted order
     const SortedStream& sorted_;
     std::uint32_t min_group_rays_;
+    bool group_loose_rays_;
+    LooseWindow window_;
     Out* out_;
     double tolerance_;
 };
@@ -314,7 +421,8 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, std::span<const R
     } release{use_kept};
     sort_stream(kd.scene.bounds(), s, rays, kOcclusion, options, kd.kernels->isa, sorted);
     const auto sorted_at = std::chrono::steady_clock::now();
-    const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, std::uint32_t(s.min_group_rays), out);
+    const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, std::uint32_t(s.min_group_rays),
+                                              s.group_loose_rays, out);
     run_query(sorted.groups.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
         if (c)
             trace.template groups<true>(b, e, c);

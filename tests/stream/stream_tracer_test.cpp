@@ -118,11 +118,14 @@ TEST_P(StreamTracerScenes, AnswersAsTheKdTree) {
     const Answers got = answers(tracer, rays, QueryOptions{1, &counters});
     expect_same_hits(s, rays, got.hits, want, "sorted");
     EXPECT_EQ(got.occluded, want_occluded);
-    // The stream was grouped: one-origin groups, pencils through the camera and the lights.
+    // The stream was grouped: one-origin groups, pencils through the camera and the lights, the
+    // scattered rays as loose groups of sorted neighbours.
     EXPECT_GT(counters.stream.origin_groups, 0u);
     EXPECT_GT(counters.stream.pencil_packets, 0u);
+    EXPECT_GT(counters.stream.loose_groups, 0u);
     EXPECT_EQ(counters.stream.rays, 2 * rays.size());
-    EXPECT_LE(counters.stream.origin_group_rays + counters.stream.pencil_rays + counters.stream.single_rays,
+    EXPECT_LE(counters.stream.origin_group_rays + counters.stream.pencil_rays + counters.stream.single_rays +
+                  counters.stream.loose_group_rays,
               2 * rays.size());
     // The same answers on two threads and unsorted.
     const Answers two = answers(tracer, rays, QueryOptions{2, nullptr});
@@ -133,6 +136,43 @@ TEST_P(StreamTracerScenes, AnswersAsTheKdTree) {
     const Answers plain = answers(StreamTracer(tree, unsorted), rays);
     expect_same_hits(s, rays, plain.hits, want, "unsorted");
     EXPECT_EQ(plain.occluded, want_occluded);
+    // Loose rays one by one: the same answers.
+    StreamSettings one_by_one;
+    one_by_one.group_loose_rays = false;
+    QueryCounters alone;
+    const Answers singles = answers(StreamTracer(tree, one_by_one), rays, QueryOptions{1, &alone});
+    expect_same_hits(s, rays, singles.hits, want, "loose rays one by one");
+    EXPECT_EQ(singles.occluded, want_occluded);
+    EXPECT_EQ(alone.stream.loose_groups, 0u);
+    EXPECT_GE(alone.stream.single_rays, counters.stream.loose_group_rays);
+}
+
+TEST_P(StreamTracerScenes, DiffuseBouncesGoInLooseGroupsAndAnswerAsTheKdTree) {
+    // One closest-hit ray from each of 20,000 points (a diffuse bounce per hit): no two share an
+    // origin or an end point, so every ray is loose; in windows of sorted neighbours, put in order
+    // of direction, they go 16 at a time through the masked group traversal.
+    const Scene s = scene();
+    const KdTree tree = KdTree::build(s);
+    const Box b = s.bounds();
+    const Float3 e = b.extent();
+    std::mt19937 random(70 + unsigned(GetParam()));
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<Ray> rays;
+    for (int i = 0; i < 20000; ++i) {
+        const Float3 o{b.lower.x + e.x * u(random), b.lower.y + e.y * u(random), b.lower.z + e.z * u(random)};
+        rays.push_back(Ray{o, 0.0f, Float3{u(random) - 0.5f, u(random) - 0.5f, u(random) - 0.5f}, kInfinity});
+    }
+    std::vector<Hit> want(rays.size());
+    std::vector<std::uint8_t> want_occluded(rays.size());
+    tree.intersect(rays, want);
+    tree.occluded(rays, want_occluded);
+    QueryCounters counters;
+    const Answers got = answers(StreamTracer(tree), rays, QueryOptions{1, &counters});
+    expect_same_hits(s, rays, got.hits, want, "loose groups");
+    EXPECT_EQ(got.occluded, want_occluded);
+    EXPECT_EQ(counters.stream.loose_group_rays, 2 * rays.size());
+    EXPECT_EQ(counters.stream.single_rays, 0u);
+    EXPECT_GE(double(counters.stream.loose_group_rays) / double(counters.stream.loose_groups), 15.0);
 }
 
 TEST_P(StreamTracerScenes, AnswersDoNotDependOnTheInputOrder) {
@@ -233,5 +273,6 @@ TEST(StreamTracer, ManyOriginsInOneCellAnswerAsTheKdTree) {
     expect_same_hits(s, rays, got.hits, want, "one cell");
     EXPECT_EQ(got.occluded, want_occluded);
     EXPECT_GT(counters.stream.origin_group_rays, 2 * rays.size() * 3 / 4);
-    EXPECT_EQ(counters.stream.origin_group_rays + counters.stream.single_rays, 2 * rays.size());
+    EXPECT_EQ(counters.stream.origin_group_rays + counters.stream.single_rays + counters.stream.loose_group_rays,
+              2 * rays.size());
 }

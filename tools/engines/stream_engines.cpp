@@ -45,16 +45,18 @@ public:
         answer_rays(*tracer_, in, closest, a, QueryOptions{1, &c});
         const auto& s = c.stream;
         const double n = s.rays ? double(s.rays) : 1.0;
-        const std::uint64_t groups = s.origin_groups + s.pencil_packets;
+        const std::uint64_t groups = s.origin_groups + s.pencil_packets + s.loose_groups;
         const double sort_seconds = double(s.sort_nanoseconds) * 1e-9;
         nlohmann::json j = {
             {"sort_seconds", sort_seconds},
             {"sort_fraction", seconds > 0 ? sort_seconds / seconds : 0.0},
             {"groups", groups},
-            {"mean_rays_per_group", groups ? double(s.origin_group_rays + s.pencil_rays) / double(groups) : 0.0},
+            {"mean_rays_per_group", groups ? double(s.origin_group_rays + s.pencil_rays + s.loose_group_rays) / double(groups) : 0.0},
             {"single_rays", s.single_rays},
             {"origin_groups", s.origin_groups},
             {"origin_group_rays", s.origin_group_rays},
+            {"loose_groups", s.loose_groups},
+            {"loose_group_rays", s.loose_group_rays},
             {"pencil_packets", s.pencil_packets},
             {"pencil_rays", s.pencil_rays},
             {"cells_per_ray",
@@ -67,7 +69,8 @@ public:
             // word (stream/ray_sort.hpp), groups.
             {"buffer_bytes", tracer_->settings().sort ? s.rays * (4 + 4 + 4 + 4 + sizeof(Ray) + 40) + groups * 12 : 0},
             {"sort", tracer_->settings().sort},
-            {"min_group_rays", tracer_->settings().min_group_rays}};
+            {"min_group_rays", tracer_->settings().min_group_rays},
+            {"group_loose_rays", tracer_->settings().group_loose_rays}};
         j.update(tree_json(tree_->stats()));
         return j;
     }
