@@ -66,20 +66,30 @@ struct StreamCase {
     stream::RaySortBuffers ray_sort_buffers;
 };
 
-std::unique_ptr<StreamCase> build_case(const std::string& name) {
-    auto c = std::make_unique<StreamCase>();
-    const std::optional<std::string> spec = bench::scene_spec(name, c->error);
-    if (!spec) return c;
+// The rays of `mode` on the scene `name` in one fixed random order (a wavefront integrator's), and the
+// scene's kd-tree; nothing when the scene is missing (then error says why).
+std::vector<Ray> shuffled_workload(const std::string& name, workload::Mode mode, std::optional<KdTree>& tree,
+                                   std::string& error) {
+    std::vector<Ray> rays;
+    const std::optional<std::string> spec = bench::scene_spec(name, error);
+    if (!spec) return rays;
     workload::WorkloadConfig config;
     config.scene = *spec;
-    config.mode = workload::Mode::ao;
+    config.mode = mode;
     config.width = config.height = image_size();
     const workload::Workload w = workload::make_workload(config);
     for (std::size_t s = 0; s < w.rays.slots(); ++s)
-        if (w.rays.active(s)) c->rays.push_back(w.rays.ray(s));
+        if (w.rays.active(s)) rays.push_back(w.rays.ray(s));
     std::mt19937 random(7);
-    std::shuffle(c->rays.begin(), c->rays.end(), random);
-    c->tree.emplace(KdTree::build(w.source.scene));
+    std::shuffle(rays.begin(), rays.end(), random);
+    tree.emplace(KdTree::build(w.source.scene));
+    return rays;
+}
+
+std::unique_ptr<StreamCase> build_case(const std::string& name) {
+    auto c = std::make_unique<StreamCase>();
+    c->rays = shuffled_workload(name, workload::Mode::ao, c->tree, c->error);
+    if (!c->tree) return c;
     const KdTree::Impl& kd = detail::Access::impl(*c->tree);
     const std::size_t n = c->rays.size();
     c->shared = stream::find_shared_points(c->rays, kd.bounds, 4096, 0.01f, StreamSettings::kMaxSharedPoints);
@@ -259,18 +269,8 @@ DiffuseCase& diffuse_case(const std::string& name) {
     if (slot) return *slot;
     slot = std::make_unique<DiffuseCase>();
     DiffuseCase& c = *slot;
-    const std::optional<std::string> spec = bench::scene_spec(name, c.error);
-    if (!spec) return c;
-    workload::WorkloadConfig config;
-    config.scene = *spec;
-    config.mode = workload::Mode::diffuse;
-    config.width = config.height = image_size();
-    const workload::Workload w = workload::make_workload(config);
-    for (std::size_t s = 0; s < w.rays.slots(); ++s)
-        if (w.rays.active(s)) c.shuffled.push_back(w.rays.ray(s));
-    std::mt19937 random(7);
-    std::shuffle(c.shuffled.begin(), c.shuffled.end(), random);
-    c.tree.emplace(KdTree::build(w.source.scene));
+    c.shuffled = shuffled_workload(name, workload::Mode::diffuse, c.tree, c.error);
+    if (!c.tree) return c;
     const Box box = detail::Access::impl(*c.tree).bounds;
     c.by_origin = c.shuffled;
     std::stable_sort(c.by_origin.begin(), c.by_origin.end(), [&](const Ray& a, const Ray& b) {

@@ -89,6 +89,21 @@ Answers answers(const StreamTracer& tracer, const std::vector<Ray>& rays, const 
     return a;
 }
 
+// The tracer's closest hits and occlusion answers to `rays` are the kd-tree's (one thread); returns
+// the tracer's counters of both calls.
+QueryCounters expect_the_kd_trees_answers(const Scene& scene, const KdTree& tree, const StreamTracer& tracer,
+                                          const std::vector<Ray>& rays, const std::string& what) {
+    std::vector<Hit> want(rays.size());
+    std::vector<std::uint8_t> want_occluded(rays.size());
+    tree.intersect(rays, want);
+    tree.occluded(rays, want_occluded);
+    QueryCounters counters;
+    const Answers got = answers(tracer, rays, QueryOptions{1, &counters});
+    expect_same_hits(scene, rays, got.hits, want, what);
+    EXPECT_EQ(got.occluded, want_occluded) << what;
+    return counters;
+}
+
 class StreamTracerScenes : public ::testing::TestWithParam<int> {
 protected:
     Scene scene() const {
@@ -162,14 +177,7 @@ TEST_P(StreamTracerScenes, DiffuseBouncesGoInLooseGroupsAndAnswerAsTheKdTree) {
         const Float3 o{b.lower.x + e.x * u(random), b.lower.y + e.y * u(random), b.lower.z + e.z * u(random)};
         rays.push_back(Ray{o, 0.0f, Float3{u(random) - 0.5f, u(random) - 0.5f, u(random) - 0.5f}, kInfinity});
     }
-    std::vector<Hit> want(rays.size());
-    std::vector<std::uint8_t> want_occluded(rays.size());
-    tree.intersect(rays, want);
-    tree.occluded(rays, want_occluded);
-    QueryCounters counters;
-    const Answers got = answers(StreamTracer(tree), rays, QueryOptions{1, &counters});
-    expect_same_hits(s, rays, got.hits, want, "loose groups");
-    EXPECT_EQ(got.occluded, want_occluded);
+    const QueryCounters counters = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), rays, "loose groups");
     EXPECT_EQ(counters.stream.loose_group_rays, 2 * rays.size());
     EXPECT_EQ(counters.stream.single_rays, 0u);
     EXPECT_GE(double(counters.stream.loose_group_rays) / double(counters.stream.loose_groups), 15.0);
@@ -264,14 +272,7 @@ TEST(StreamTracer, ManyOriginsInOneCellAnswerAsTheKdTree) {
         }
     }
     std::shuffle(rays.begin(), rays.end(), random);
-    std::vector<Hit> want(rays.size());
-    std::vector<std::uint8_t> want_occluded(rays.size());
-    tree.intersect(rays, want);
-    tree.occluded(rays, want_occluded);
-    QueryCounters counters;
-    const Answers got = answers(StreamTracer(tree), rays, QueryOptions{1, &counters});
-    expect_same_hits(s, rays, got.hits, want, "one cell");
-    EXPECT_EQ(got.occluded, want_occluded);
+    const QueryCounters counters = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), rays, "one cell");
     EXPECT_GT(counters.stream.origin_group_rays, 2 * rays.size() * 3 / 4);
     EXPECT_EQ(counters.stream.origin_group_rays + counters.stream.single_rays + counters.stream.loose_group_rays,
               2 * rays.size());
