@@ -278,11 +278,10 @@ private:
                                                               far_lanes)
                                     : split_lanes<Arch, false>(rays_, t, lanes, axis, node.split, lower_first, far.t,
                                                                far_lanes);
-                        if (far_lanes != 0) {
-                            far.node = lower_first ? node.upper_child() : index + 1;
-                            far.lanes = far_lanes;
-                            ++top;
-                        }
+                        // Pushed without a branch (an entry without lanes is left behind at once).
+                        far.node = lower_first ? node.upper_child() : index + 1;
+                        far.lanes = far_lanes;
+                        top += far_lanes != 0;
                         index = lower_first ? index + 1 : node.upper_child();
                         if (lanes != 0) continue;
                     }
