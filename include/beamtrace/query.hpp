@@ -82,6 +82,7 @@ struct QueryCounters {
         std::uint64_t cache_hits = 0;         // rays whose cell was the thread's last one
         std::uint64_t descent_steps = 0;      // cells passed on the way down from a face (cache misses)
         std::uint64_t candidates = 0;         // candidates examined (the thesis's bound tests)
+        std::uint64_t run_rays = 0;           // occlusion rays tested 16 to a candidate with their grid cell's run
     } raycls;
     // Sorted lists (sorted_lists.hpp, Fournier and Poulin). Rays and triangle tests are counted in
     // the top-level rays and triangle_tests.
@@ -137,6 +138,7 @@ struct QueryCounters {
         raycls.cache_hits += o.raycls.cache_hits;
         raycls.descent_steps += o.raycls.descent_steps;
         raycls.candidates += o.raycls.candidates;
+        raycls.run_rays += o.raycls.run_rays;
         lists.events += o.lists.events;
         lists.walked_events += o.lists.walked_events;
         lists.volumes_opened += o.lists.volumes_opened;

@@ -55,6 +55,10 @@ struct RayClsSettings {
     bool cache = true;
     // Collapse the origin dimensions of calls whose rays share an end point or a start point.
     bool light_buffers = true;
+    // Occlusion rays of a light buffer that fall in one grid cell one after another (shadow rays of
+    // neighbouring pixels) are tested together, 16 rays a candidate, instead of one by one (beyond the
+    // thesis; docs/raycls.md). The same answers.
+    bool packet_light_buffers = true;
     // Bytes the lazily made cells may hold (0: unbounded). Within a call, once the cells hold this
     // much no new cell is made: a ray whose cell is missing is traced by the kd-tree instead (exact;
     // counted as QueryCounters::rays). At the start of a call over the budget the least recently used

@@ -5,6 +5,8 @@
 // pruning between calls; and bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "beamtrace/error.hpp"
@@ -174,6 +176,39 @@ TEST(RayClassification, LightBufferFromSharedEndPoint) {
         EXPECT_GT(occluded, 0u);
         EXPECT_LT(occluded, rays.size());
         check_all(rc, c.scene, rays, c.name, 2);
+    }
+}
+
+TEST(RayClassification, ShadowRaysInRunsOfOneCellAnswerAsOneByOne) {
+    // Shadow rays in order of their direction from the light (as neighbouring pixels' are), so that
+    // runs of one grid cell form: tested 16 rays a candidate, they answer as brute force does, and as
+    // the same rays one by one (packet_light_buffers off).
+    for (const Case& c : scenes()) {
+        const Box& b = c.scene.bounds();
+        const Float3 e = b.extent();
+        const Float3 light = b.center() + Float3{0.1f * e.x, 0.45f * e.y, -0.05f * e.z};
+        std::vector<Ray> rays = rays_to_light(b, light, 6000, 23);
+        std::sort(rays.begin(), rays.end(), [](const Ray& a, const Ray& r) {
+            const auto angle = [](const Ray& x) { return std::atan2(x.dir.z, x.dir.x) * 8.0f; };
+            const int ka = int(std::floor(angle(a))), kr = int(std::floor(angle(r)));
+            if (ka != kr) return ka < kr;
+            return a.dir.y / std::sqrt(dot(a.dir, a.dir)) < r.dir.y / std::sqrt(dot(r.dir, r.dir));
+        });
+        for (bool runs : {true, false}) {
+            RayClsSettings s;
+            s.packet_light_buffers = runs;
+            const RayClassification rc(c.scene, s);
+            std::vector<std::uint8_t> occ(rays.size());
+            QueryCounters counters;
+            rc.occluded(rays, occ, QueryOptions{1, &counters});
+            for (std::size_t i = 0; i < rays.size(); ++i)
+                ASSERT_EQ(occ[i] != 0, occluded_brute_force(c.scene, rays[i])) << c.name << " runs " << runs << " ray " << i;
+            if (runs)
+                EXPECT_GT(counters.raycls.run_rays, rays.size() / 4) << c.name;
+            else
+                EXPECT_EQ(counters.raycls.run_rays, 0u) << c.name;
+            check_all(rc, c.scene, rays, c.name, 2);
+        }
     }
 }
 

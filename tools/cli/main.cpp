@@ -118,6 +118,9 @@ void add_raycls_options(CLI::App& command, RayClsSettings& s) {
                      "raycls: try each thread's last cell first (default on)");
     command.add_flag("--light-buffers,!--no-light-buffers", s.light_buffers,
                      "raycls: direction maps around a point every ray of a call ends or starts at (default on)");
+    command.add_flag("--raycls-packets,!--no-raycls-packets", s.packet_light_buffers,
+                     "raycls: occlusion rays in one light-buffer cell one after another tested 16 at a time (default "
+                     "on; off: one by one, the same answers)");
 }
 
 workload::WorkloadConfig workload_config(const SceneOptions& scene, const RayOptions& rays) {

@@ -65,6 +65,7 @@ public:
                             {"memory_peak_bytes", s.memory_peak_bytes},
                             {"light_buffers", s.light_buffers},
                             {"light_buffer_ray_fraction", double(r.light_buffer_rays) / n},
+                            {"run_ray_fraction", double(r.run_rays) / n},
                             {"cache_hit_rate", double(r.cache_hits) / n},
                             {"descent_steps_per_ray", double(r.descent_steps) / n},
                             {"candidates_per_ray", double(r.candidates) / n},
@@ -84,6 +85,7 @@ public:
                               {"entries_per_ray", set.entries_per_ray},
                               {"cache", set.cache},
                               {"light_buffers", set.light_buffers},
+                              {"packet_light_buffers", set.packet_light_buffers},
                               {"memory_budget_bytes", set.memory_budget_bytes}}}};
         j.update(tree_json(tree_->stats()));
         return j;
