@@ -54,15 +54,19 @@ inline Hit walk(const KdTree::Impl& tree, const Ray& ray, const Float3& inv, Wat
                 stack[top++] = StackEntry{second, tmin, tmax};
                 index = first;
                 in_plane = true;
-            } else if (tplane > tmax + slack(tmax)) {
-                index = first;
-            } else if (tplane < tmin - slack(tmin)) {
-                index = second;
-            } else {
-                stack[top++] = StackEntry{second, tplane, tmax};
-                index = first;
-                tmax = tplane;
+                continue;
             }
+            // The plane beyond the interval: the first child alone; before it: the second alone;
+            // else both, the second stacked. Without branches (the outcome is unpredictable): the
+            // entry is written every time and kept when both children are visited (top <= the
+            // tree's depth, at most 60, below kStackSize either way).
+            const bool beyond = tplane > tmax + slack(tmax);
+            const bool before = !beyond && tplane < tmin - slack(tmin);
+            const bool both = !beyond && !before;
+            stack[top] = StackEntry{second, tplane, tmax};
+            top += both ? 1 : 0;
+            index = before ? second : first;
+            tmax = both ? tplane : tmax;
             continue;
         }
         // Leaf: test its triangles, 8 (or 4) at a time.
