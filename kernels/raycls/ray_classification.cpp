@@ -283,7 +283,6 @@ Hit trace_one(const Impl& impl, Frame frame, const CellTree& cells, const Ray& r
         return raycls::closest_candidate<kCount>(*impl.kernels, at.items, r, at.key_origin, at.step, counters);
 }
 
-
 template <bool kOcclusion, class Out>
 void trace_span(const Impl& impl, std::span<const Ray> rays, const QueryOptions& options, Out&& out) {
     impl.start_call(rays.size());
@@ -296,7 +295,7 @@ void trace_span(const Impl& impl, std::span<const Ray> rays, const QueryOptions&
         payoff.start(&impl, call);
         const bool watch = plan.frame == Frame::space;
         if (kOcclusion && !watch && impl.settings.packet_light_buffers) {
-            // One run per light buffer (the rays of several lights come interleaved).
+            // kOpenRuns runs per light buffer (the rays of several lights come interleaved).
             const auto runs = [&](auto count, QueryCounters* counters) {
                 using Runs = raycls::OcclusionRuns<decltype(count)::value, decltype(out)>;
                 constexpr std::size_t K = kOpenRuns;
