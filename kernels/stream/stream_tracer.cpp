@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <chrono>
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@
 #include "beamtrace/error.hpp"
 #include "common/access.hpp"
 #include "common/huge_page_allocator.hpp"
+#include "common/morton.hpp"
 #include "common/query_runner.hpp"
 #include "kdtree/packet/packet_traversal.hpp"
 #include "kdtree/ray_traversal.hpp"
@@ -103,14 +105,16 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
 // The rays of a group as a packet (lanes 0 .. count; the others the ray (0, 0, 0) + t (0, 0, 1),
 // t in [0, 0]): four rays at a time, each ray's two halves (origin and tnear, direction and tfar)
 // transposed into the packet's rows.
-Packet16 packet_of(const Ray* rays, std::uint32_t count) {
+// ray(j) gives the j-th ray (j < count).
+template <class RayAt>
+Packet16 packet_of(RayAt ray, std::uint32_t count) {
     static_assert(sizeof(Ray) == 8 * sizeof(float));
     alignas(16) static constexpr float kUnused[8] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
     Packet16 p;
     for (std::uint32_t b = 0; b < 16; b += 4) {
         __m128 o[4], d[4];
         for (std::uint32_t j = 0; j < 4; ++j) {
-            const float* r = b + j < count ? reinterpret_cast<const float*>(rays + b + j) : kUnused;
+            const float* r = b + j < count ? reinterpret_cast<const float*>(&ray(b + j)) : kUnused;
             o[j] = _mm_loadu_ps(r);
             d[j] = _mm_loadu_ps(r + 4);
         }
@@ -127,6 +131,29 @@ Packet16 packet_of(const Ray* rays, std::uint32_t count) {
     }
     p.active = count >= 16 ? 0xFFFFu : (1u << count) - 1u;
     return p;
+}
+
+Packet16 packet_of(const Ray* rays, std::uint32_t count) {
+    return packet_of([rays](std::uint32_t j) -> const Ray& { return rays[j]; }, count);
+}
+
+// The cell of a direction among 4^bits (bits <= 4) for ordering loose rays: the octahedral
+// projection (as octahedral_code, but with one reciprocal and no branches; the exact code is not
+// needed here, neighbouring cells only).
+[[gnu::always_inline]] inline std::uint32_t loose_direction_cell(const Float3& d, int bits) {
+    const float r = 1.0f / (std::fabs(d.x) + std::fabs(d.y) + std::fabs(d.z));
+    const float u = d.x * r, v = d.y * r;
+    const bool lower = d.z < 0.0f;
+    const float fu = lower ? std::copysign(1.0f - std::fabs(v), u) : u;
+    const float fv = lower ? std::copysign(1.0f - std::fabs(u), v) : v;
+    const float cells = float(1 << bits);
+    const auto cell = [&](float x) {
+        const float q = (x * 0.5f + 0.5f) * cells;
+        if (!(q > 0.0f)) return 0u;  // NaN too
+        return q < cells - 1.0f ? std::uint32_t(q) : std::uint32_t(cells - 1.0f);
+    };
+    const std::uint32_t cu = cell(fu), cv = cell(fv);
+    return (spread_bits_2(cu) | (spread_bits_2(cv) << 1)) & ((1u << (2 * bits)) - 1u);
 }
 
 // Loose rays (StreamTrace::loose) are grouped within windows of sorted neighbours (near origins)
@@ -278,7 +305,7 @@ private:
             } else {
                 std::uint32_t first[257] = {};
                 for (std::uint32_t i = 0; i < n; ++i) {
-                    bin[i] = std::uint8_t(stream::octahedral_code(rays_[w + i].dir, window_.direction_bits));
+                    bin[i] = std::uint8_t(loose_direction_cell(rays_[w + i].dir, window_.direction_bits));
                     ++first[bin[i] + 1];
                 }
                 for (std::uint32_t b = 0; b < bins; ++b) first[b + 1] += first[b];
@@ -299,10 +326,7 @@ private:
     // The rays of sorted positions pos[0 .. n), n <= 16, by the masked group traversal.
     template <bool kCount>
     void group_at(const std::uint32_t* pos, std::uint32_t n, QueryCounters* c) const {
-        Packet16 packet;
-        for (std::uint32_t i = 0; i < 16; ++i)
-            packet.set_ray(int(i), i < n ? rays_[pos[i]] : Ray{{0, 0, 0}, 0, {0, 0, 1}, 0});
-        packet.active = n >= 16 ? 0xFFFFu : (1u << n) - 1u;
+        const Packet16 packet = packet_of([this, pos](std::uint32_t j) -> const Ray& { return rays_[pos[j]]; }, n);
         PacketHits16 hits;
         std::uint32_t bits = 0;
         stream::trace_group<kOcclusion, kCount>(kd_, packet, &hits, &bits, c);
