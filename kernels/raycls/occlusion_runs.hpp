@@ -56,8 +56,7 @@ public:
         if (count_ == 0) return;
         if (count_ < kMinRunRays) {
             for (int i = 0; i < count_; ++i)
-                out_(index_[i], any_hit(any_candidate<kCount>(kernels_, items_, packet_.ray(i), stop_[i],
-                                                                      counters_)));
+                out_(index_[i], any_hit(any_candidate<kCount>(kernels_, items_, packet_.ray(i), stop_[i], counters_)));
             count_ = 0;
             return;
         }
