@@ -93,7 +93,7 @@ private:
     int count_ = 0;
     std::size_t index_[16];
     float stop_[16];
-    Packet16 packet_;
+    Packet16 packet_{};  // lanes past a run's rays: zeros or an earlier run's rays (never garbage)
     WatertightPacket16 wp_;
 };
 
