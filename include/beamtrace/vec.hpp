@@ -43,6 +43,16 @@ struct Box {
         upper = max(upper, b.upper);
     }
     constexpr bool empty() const { return lower.x > upper.x || lower.y > upper.y || lower.z > upper.z; }
+    // p on or inside the box (false for an empty box and for NaN coordinates).
+    constexpr bool contains(Float3 p) const {
+        return lower.x <= p.x && p.x <= upper.x && lower.y <= p.y && p.y <= upper.y && lower.z <= p.z &&
+               p.z <= upper.z;
+    }
+    // b within the box, faces included (true for an empty b inside, whatever its inverted corners).
+    constexpr bool contains(const Box& b) const {
+        return lower.x <= b.lower.x && lower.y <= b.lower.y && lower.z <= b.lower.z && upper.x >= b.upper.x &&
+               upper.y >= b.upper.y && upper.z >= b.upper.z;
+    }
     constexpr Float3 extent() const { return upper - lower; }
     constexpr Float3 center() const { return (lower + upper) * 0.5f; }
     inline float diagonal() const { return empty() ? 0.0f : length(extent()); }

@@ -298,10 +298,7 @@ const MovingTree& MovingBin::light_buffer(const Box& points, float grow) const {
     constexpr std::size_t kMaxBuffers = 16;
     std::lock_guard<std::mutex> lock(buffers_mutex_);
     for (const auto& b : buffers_) {
-        const Box& o = b->origins;
-        if (o.lower.x <= points.lower.x && o.lower.y <= points.lower.y && o.lower.z <= points.lower.z &&
-            o.upper.x >= points.upper.x && o.upper.y >= points.upper.y && o.upper.z >= points.upper.z)
-            return *b;
+        if (b->origins.contains(points)) return *b;
     }
     if (buffers_.size() >= kMaxBuffers) return space_;
     auto b = std::make_unique<MovingTree>();

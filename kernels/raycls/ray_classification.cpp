@@ -120,12 +120,8 @@ struct RayClassification::Impl {
     // The light buffer whose apex box holds `points`, made when there is none (nullptr when too many).
     const CellTree* light_buffer(const Box& points) const {
         std::lock_guard<std::mutex> lock(buffers_mutex);
-        for (const auto& b : buffers) {
-            const Box& o = b->origins();
-            if (o.lower.x <= points.lower.x && o.lower.y <= points.lower.y && o.lower.z <= points.lower.z &&
-                o.upper.x >= points.upper.x && o.upper.y >= points.upper.y && o.upper.z >= points.upper.z)
-                return b.get();
-        }
+        for (const auto& b : buffers)
+            if (b->origins().contains(points)) return b.get();
         if (buffers.size() >= kMaxLightBuffers) return nullptr;
         // A little room around the points, so that later calls around the same point reuse it.
         Box apex = points;

@@ -62,11 +62,8 @@ inline SharedPoints find_shared_points(std::span<const Ray> rays, bool occlusion
             if (frame == Frame::from_end && r.tfar == kInfinity) return {};
             const Float3 p = point_of(r);
             auto joins = [&](std::size_t c) {
-                const Box& b = s.points[c];
-                const bool inside = b.lower.x <= p.x && p.x <= b.upper.x && b.lower.y <= p.y && p.y <= b.upper.y &&
-                                    b.lower.z <= p.z && p.z <= b.upper.z;
-                if (!inside) {  // (most points of a light fall inside its box once it has grown)
-                    Box grown = b;
+                if (!s.points[c].contains(p)) {  // (most points of a light fall inside its box once it has grown)
+                    Box grown = s.points[c];
                     grown.extend(p);
                     if (!small(grown)) return false;
                     s.points[c] = grown;

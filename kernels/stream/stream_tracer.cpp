@@ -162,6 +162,8 @@ Packet16 packet_of(const Ray* rays, std::uint32_t count) {
 // their number, so a denser stream gets finer direction cells in the same region (as many as leave
 // about 16 rays a cell).
 constexpr std::uint32_t kMinLooseWindow = 256, kMaxLooseWindow = 4096;
+// The most direction cells a window uses: 4^4 (loose_window below, for kMaxLooseWindow).
+constexpr std::uint32_t kMaxLooseCells = 1u << (2 * ((std::countr_zero(kMaxLooseWindow) - 4) / 2));
 
 struct LooseWindow {
     std::uint32_t rays;
@@ -268,7 +270,7 @@ private:
         kdtree::trace_packets_together<kOcclusion, kCount>(context_, traced, n, root_, hits_of, bits_of, c);
         for (int k = 0; k < n; ++k) {
             const RayGroup& g = sorted_.groups[first + std::size_t(k)];
-            write_packet(sorted_.order.data() + g.begin, g.count, &hits[k], bits[k]);
+            write_lanes([&](std::uint32_t i) { return sorted_.order[g.begin + i]; }, g.count, &hits[k], bits[k]);
         }
         return last;
     }
@@ -303,7 +305,7 @@ private:
             if (n <= 16) {
                 for (std::uint32_t i = 0; i < n; ++i) positions[i] = w + i;
             } else {
-                std::uint32_t first[257] = {};
+                std::uint32_t first[kMaxLooseCells + 1] = {};
                 for (std::uint32_t i = 0; i < n; ++i) {
                     bin[i] = std::uint8_t(loose_direction_cell(rays_[w + i].dir, window_.direction_bits));
                     ++first[bin[i] + 1];
@@ -318,34 +320,19 @@ private:
                     ++c->stream.loose_groups;
                     c->stream.loose_group_rays += e - b;
                 }
-                group_at<kCount>(positions + b, e - b, c);
+                group<kCount>([&](std::uint32_t j) { return positions[b + j]; }, e - b, c);
             }
         }
     }
 
-    // The rays of sorted positions pos[0 .. n), n <= 16, by the masked group traversal.
-    template <bool kCount>
-    void group_at(const std::uint32_t* pos, std::uint32_t n, QueryCounters* c) const {
-        const Packet16 packet = packet_of([this, pos](std::uint32_t j) -> const Ray& { return rays_[pos[j]]; }, n);
+    // The rays of sorted positions at(0) .. at(n - 1), n <= 16, by the masked group traversal.
+    template <bool kCount, class At>
+    void group(At at, std::uint32_t n, QueryCounters* c) const {
+        const Packet16 packet = packet_of([&](std::uint32_t j) -> const Ray& { return rays_[at(j)]; }, n);
         PacketHits16 hits;
         std::uint32_t bits = 0;
         stream::trace_group<kOcclusion, kCount>(kd_, packet, &hits, &bits, c);
-        for (std::uint32_t i = 0; i < n; ++i) {
-            if constexpr (kOcclusion)
-                out_[sorted_.order[pos[i]]] = std::uint8_t((bits >> i) & 1u);
-            else
-                out_[sorted_.order[pos[i]]] = hits.hit(int(i));
-        }
-    }
-
-    // Sorted positions [b, e), at most 16, by the masked group traversal.
-    template <bool kCount>
-    void group(std::uint32_t b, std::uint32_t e, QueryCounters* c) const {
-        const Packet16 packet = packet_of(rays_ + b, e - b);
-        PacketHits16 hits;
-        std::uint32_t bits = 0;
-        stream::trace_group<kOcclusion, kCount>(kd_, packet, &hits, &bits, c);
-        write_packet(sorted_.order.data() + b, e - b, &hits, bits);
+        write_lanes([&](std::uint32_t i) { return sorted_.order[at(i)]; }, n, &hits, bits);
     }
 
     // A cell's rays, each origin's next to each other (the sort's origin hash; two origins that share
@@ -374,7 +361,7 @@ private:
                     ++c->stream.origin_groups;
                     c->stream.origin_group_rays += e - b;
                 }
-                group<kCount>(b, e, c);
+                group<kCount>([b](std::uint32_t j) { return b + j; }, e - b, c);
             }
             k = run_end;
         }
@@ -394,13 +381,14 @@ private:
             out_[index] = h;
     }
 
-    void write_packet(const std::uint32_t* order, std::uint32_t count, const PacketHits16* hits,
-                      std::uint32_t bits) const {
+    // Lanes 0 .. count - 1 of a packet's answers to the input indices index(i).
+    template <class Index>
+    void write_lanes(Index index, std::uint32_t count, const PacketHits16* hits, std::uint32_t bits) const {
         for (std::uint32_t i = 0; i < count; ++i) {
             if constexpr (kOcclusion)
-                out_[order[i]] = std::uint8_t((bits >> i) & 1u);
+                out_[index(i)] = std::uint8_t((bits >> i) & 1u);
             else
-                out_[order[i]] = hits->hit(int(i));
+                out_[index(i)] = hits->hit(int(i));
         }
     }
 

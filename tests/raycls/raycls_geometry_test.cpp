@@ -3,6 +3,7 @@
 // reject triangles well outside (or the sets would be the whole scene).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "common/triangle_reference.hpp"
@@ -138,4 +139,25 @@ TEST(DirectionRects, HoldTheDirectionOfEveryRayFromTheApexThatHits) {
         ++tested;
     }
     EXPECT_GT(tested, 2000);
+}
+
+TEST(Box, ContainsPointsAndBoxes) {
+    Box b;
+    EXPECT_FALSE(b.contains(Float3{0, 0, 0})) << "an empty box holds no point";
+    b.extend(Float3{0, 0, 0});
+    b.extend(Float3{1, 2, 3});
+    EXPECT_TRUE(b.contains(Float3{0, 0, 0}));
+    EXPECT_TRUE(b.contains(Float3{1, 2, 3})) << "faces included";
+    EXPECT_TRUE(b.contains(Float3{0.5f, 1, 2}));
+    EXPECT_FALSE(b.contains(Float3{1.0000001f, 1, 1}));
+    EXPECT_FALSE(b.contains(Float3{0.5f, -1e-30f, 1}));
+    EXPECT_FALSE(b.contains(Float3{NAN, 1, 1}));
+    Box inner;
+    inner.extend(Float3{0, 1, 1});
+    inner.extend(Float3{1, 2, 2});
+    EXPECT_TRUE(b.contains(inner));
+    EXPECT_TRUE(b.contains(b));
+    inner.extend(Float3{1, 2, 3.5f});
+    EXPECT_FALSE(b.contains(inner));
+    EXPECT_FALSE(inner.contains(b));
 }
