@@ -13,8 +13,12 @@
 //   <scene>/origin_group    one group of rays with one origin by the masked group traversal (per group)
 //   <scene>/single_sorted   the same rays one by one (single-ray traversal) in sorted order (per ray)
 //   <scene>/single_shuffled the same rays one by one in the shuffled order (per ray)
+//   <scene>/bvh_sorted      the same rays one by one through the wide BVH (bvh/wide_bvh.hpp), sorted order (per ray)
+//   <scene>/bvh_shuffled    the same in the shuffled order (per ray)
 //   <scene>/stream          the whole StreamTracer::occluded call (per ray)
 //   <scene>/diffuse_single  diffuse bounces (one closest-hit ray per primary hit) one by one, by origin cell (per ray)
+//   <scene>/diffuse_bvh     the same through the wide BVH, by origin cell (per ray)
+//   <scene>/diffuse_bvh_shuffled  the same in the shuffled order (per ray)
 //   <scene>/diffuse_group   the same, 16 consecutive ones a group, masked group traversal (per ray)
 //   <scene>/diffuse_stream  the whole StreamTracer::intersect call on them, shuffled (per ray)
 //   <scene>/diffuse_stream_singles  the same with StreamSettings::group_loose_rays off (per ray)
@@ -34,6 +38,7 @@
 #include "beamtrace/kdtree.hpp"
 #include "beamtrace/stream.hpp"
 #include "common/access.hpp"
+#include "bvh/wide_bvh.hpp"
 #include "kdtree/ray_traversal.hpp"
 #include "stream/group_traversal.hpp"
 #include "stream/radix_sort.hpp"
@@ -241,6 +246,43 @@ void bm_single(benchmark::State& state, const std::string& name, bool sorted) {
     per_ray(state, 1);
 }
 
+// The scene's wide BVH, built once per scene (its build time is reported once, as a counter).
+const bvh::WideBvh& wide_bvh(const KdTree& tree) {
+    static std::map<const void*, std::shared_ptr<const bvh::WideBvh>> cache;
+    auto& slot = cache[&detail::Access::impl(tree)];
+    if (!slot) slot = bvh::WideBvh::build(tree.scene());
+    return *slot;
+}
+
+// Rays one by one through the wide BVH (occlusion or closest hit), with the per-ray counts of a
+// counted pass.
+void bvh_rays(benchmark::State& state, const KdTree& tree, const std::vector<Ray>& rays, bool occlusion) {
+    const bvh::WideBvh& b = wide_bvh(tree);
+    const bvh::WideBvhKernels& k = bvh::wide_bvh_kernels();
+    std::size_t next = 0;
+    float sum = 0;
+    for (auto _ : state) {
+        sum += (occlusion ? k.occluded : k.intersect)(b, rays[next]).t;
+        next = next + 1 == rays.size() ? 0 : next + 1;
+    }
+    benchmark::DoNotOptimize(sum);
+    per_ray(state, 1);
+    QueryCounters counters;
+    for (const Ray& r : rays) (occlusion ? k.occluded_counted : k.intersect_counted)(b, r, &counters);
+    const double n = double(rays.size());
+    state.counters["nodes_per_ray"] = double(counters.inner_steps) / n;
+    state.counters["leaves_per_ray"] = double(counters.leaves) / n;
+    state.counters["tests_per_ray"] = double(counters.triangle_tests) / n;
+    state.counters["build_s"] = b.stats.build_seconds;
+    state.counters["bvh_MB"] = double(b.stats.memory_bytes) / 1e6;
+}
+
+void bm_bvh(benchmark::State& state, const std::string& name, bool sorted) {
+    StreamCase& c = stream_case(name);
+    if (!usable(state, c)) return;
+    bvh_rays(state, *c.tree, sorted ? c.sorted : c.rays, true);
+}
+
 void bm_stream(benchmark::State& state, const std::string& name) {
     StreamCase& c = stream_case(name);
     if (!usable(state, c)) return;
@@ -291,6 +333,12 @@ void bm_diffuse_single(benchmark::State& state, const std::string& name) {
     }
     benchmark::DoNotOptimize(sum);
     per_ray(state, 1);
+}
+
+void bm_diffuse_bvh(benchmark::State& state, const std::string& name, bool shuffled) {
+    DiffuseCase& c = diffuse_case(name);
+    if (!c.error.empty()) return state.SkipWithError(c.error.c_str());
+    bvh_rays(state, *c.tree, shuffled ? c.shuffled : c.by_origin, false);
 }
 
 void bm_diffuse_group(benchmark::State& state, const std::string& name) {
@@ -350,8 +398,12 @@ void register_benchmarks() {
         reg("origin_group", [name](benchmark::State& s) { bm_origin_group(s, name); });
         reg("single_sorted", [name](benchmark::State& s) { bm_single(s, name, true); });
         reg("single_shuffled", [name](benchmark::State& s) { bm_single(s, name, false); });
+        reg("bvh_sorted", [name](benchmark::State& s) { bm_bvh(s, name, true); });
+        reg("bvh_shuffled", [name](benchmark::State& s) { bm_bvh(s, name, false); });
         reg("stream", [name](benchmark::State& s) { bm_stream(s, name); });
         reg("diffuse_single", [name](benchmark::State& s) { bm_diffuse_single(s, name); });
+        reg("diffuse_bvh", [name](benchmark::State& s) { bm_diffuse_bvh(s, name, false); });
+        reg("diffuse_bvh_shuffled", [name](benchmark::State& s) { bm_diffuse_bvh(s, name, true); });
         reg("diffuse_group", [name](benchmark::State& s) { bm_diffuse_group(s, name); });
         reg("diffuse_stream", [name](benchmark::State& s) { bm_diffuse_stream(s, name, true); });
         reg("diffuse_stream_singles", [name](benchmark::State& s) { bm_diffuse_stream(s, name, false); });

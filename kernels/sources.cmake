@@ -55,6 +55,8 @@ foreach(source
     vlf/stream/tile_ray_stream.cpp
     vlf/vlf_kernels.cpp
     vlf/build/dynamic_update.cpp
+    bvh/wide_bvh_builder.cpp
+    bvh/wide_bvh_traversal.cpp
     stream/ray_keys.cpp
     stream/radix_sort.cpp
     stream/ray_sort.cpp

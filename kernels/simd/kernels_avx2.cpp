@@ -2,6 +2,7 @@
 // AVX2 (kernels/CMakeLists.txt, beamtrace_isa_unit; -mfma too, but contraction is off, so no FMA is
 // emitted) and instantiates every xsimd template for it. Kernels with no AVX2 form of their own
 // come from the SSE4.2 table.
+#include "bvh/wide_bvh_traversal_impl.hpp"
 #include "simd/isa_unit.hpp"
 #include "stream/group_traversal_impl.hpp"
 #include "stream/ray_keys_impl.hpp"
@@ -50,6 +51,12 @@ const stream::KeyKernels& simd::table<stream::KeyKernels, Isa::avx2>() {
 template <>
 const stream::GroupKernels& simd::table<stream::GroupKernels, Isa::avx2>() {
     static constexpr stream::GroupKernels k = stream::GroupLanes<xsimd::avx2>::table(Isa::avx2);
+    return k;
+}
+
+template <>
+const bvh::WideBvhKernels& simd::table<bvh::WideBvhKernels, Isa::avx2>() {
+    static constexpr bvh::WideBvhKernels k = bvh::WideBvhLanes<xsimd::avx2>::table(Isa::avx2);
     return k;
 }
 

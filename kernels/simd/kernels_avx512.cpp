@@ -7,6 +7,7 @@
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include "bvh/wide_bvh_traversal_impl.hpp"
 #include "simd/isa_unit.hpp"
 #include "stream/group_traversal_impl.hpp"
 #include "stream/ray_keys_impl.hpp"
@@ -83,5 +84,10 @@ const stream::GroupKernels& simd::table<stream::GroupKernels, Isa::avx512>() {
     return k;
 }
 
+template <>
+const bvh::WideBvhKernels& simd::table<bvh::WideBvhKernels, Isa::avx512>() {
+    static constexpr bvh::WideBvhKernels k = bvh::WideBvhLanes<xsimd::avx512bw>::table(Isa::avx512);
+    return k;
+}
+
 }  // namespace beamtrace
-#pragma GCC diagnostic pop

@@ -1,5 +1,6 @@
 // Every kernel table of the library for SSE4.2 (simd/dispatch.hpp). This unit alone is compiled for
 // SSE4.2 (kernels/CMakeLists.txt, beamtrace_isa_unit) and instantiates every xsimd template for it.
+#include "bvh/wide_bvh_traversal_impl.hpp"
 #include "simd/isa_unit.hpp"
 #include "stream/group_traversal_impl.hpp"
 #include "stream/ray_keys_impl.hpp"
@@ -52,6 +53,12 @@ const stream::KeyKernels& simd::table<stream::KeyKernels, Isa::sse42>() {
 template <>
 const stream::GroupKernels& simd::table<stream::GroupKernels, Isa::sse42>() {
     static constexpr stream::GroupKernels k = stream::GroupLanes<xsimd::sse4_2>::table(Isa::sse42);
+    return k;
+}
+
+template <>
+const bvh::WideBvhKernels& simd::table<bvh::WideBvhKernels, Isa::sse42>() {
+    static constexpr bvh::WideBvhKernels k = bvh::WideBvhLanes<xsimd::sse4_2>::table(Isa::sse42);
     return k;
 }
 

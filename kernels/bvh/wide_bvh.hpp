@@ -1,0 +1,106 @@
+#pragma once
+// A wide bounding volume hierarchy: eight children a node, boxes of the children stored side by side
+// (one register of each of the six planes), leaves of at most 16 triangles whose corners are nine
+// rows of floats (the layout TriangleKernels::ray_rows reads). For the single rays no coherent
+// structure of the papers serves (diffuse bounces, the stragglers of a sorted stream): beyond every
+// paper this project follows, built only when a stream tracer asks for it (docs/wide_bvh.md).
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "beamtrace/query.hpp"
+#include "beamtrace/ray.hpp"
+#include "beamtrace/scene.hpp"
+#include "simd/dispatch.hpp"
+#include "simd/isa.hpp"
+
+namespace beamtrace::bvh {
+
+constexpr int kWidth = 8;
+
+// A child reference: an inner node's index, a leaf (kLeafBit | (count - 1) << kCountShift | first
+// triangle of the BVH order) or kEmpty (a child slot with no box: lower +inf, upper -inf).
+constexpr std::uint32_t kLeafBit = 0x80000000u;
+constexpr int kCountShift = 27;
+constexpr std::uint32_t kFirstMask = (1u << kCountShift) - 1u;
+constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
+constexpr int kMaxLeafTriangles = 16;
+
+inline bool is_leaf(std::uint32_t ref) { return (ref & kLeafBit) != 0; }
+inline std::uint32_t leaf_count(std::uint32_t ref) { return ((ref >> kCountShift) & 15u) + 1u; }
+inline std::uint32_t leaf_first(std::uint32_t ref) { return ref & kFirstMask; }
+inline std::uint32_t make_leaf(std::uint32_t first, std::uint32_t count) {
+    return kLeafBit | ((count - 1u) << kCountShift) | first;
+}
+
+// 256 bytes, four cache lines: the 8 children's boxes plane by plane (lower x of the 8, then lower y,
+// ...), their references.
+struct alignas(64) WideNode {
+    float lower[3][kWidth];
+    float upper[3][kWidth];
+    std::uint32_t child[kWidth];
+    std::uint32_t unused[kWidth];
+};
+static_assert(sizeof(WideNode) == 256);
+
+struct WideBvhSettings {
+    // Leaves hold at most this many triangles (1 .. kMaxLeafTriangles); a range is split by binned
+    // surface area heuristic until it fits.
+    int max_leaf_triangles = 8;
+    int bins = 16;  // centroid bins per axis (4 .. 64)
+
+    // Throws beamtrace::Error for a value out of range.
+    void validate() const;
+};
+
+struct WideBvhStats {
+    std::size_t inner_nodes = 0, leaves = 0, triangles = 0;  // triangles: non-degenerate, in leaves
+    int depth = 0;                                          // inner levels from the root to the deepest leaf
+    double build_seconds = 0;
+    std::size_t memory_bytes = 0;  // nodes, ids and corner rows
+};
+
+struct AlignedDelete {
+    void operator()(void* p) const;
+};
+
+class WideBvh {
+public:
+    // Degenerate triangles (Scene::is_degenerate) are left out: no query can hit them.
+    static std::shared_ptr<const WideBvh> build(const Scene& scene, const WideBvhSettings& settings = {});
+
+    // The deepest stack a traversal needs: (kWidth - 1) entries per inner level.
+    static constexpr int kMaxDepth = 80;
+
+    std::uint32_t root = kEmpty;          // a child reference (a leaf for a small scene)
+    const WideNode* nodes = nullptr;      // nodes[0 .. stats.inner_nodes)
+    std::vector<std::uint32_t> triangle_ids;  // the BVH order: leaf triangles side by side
+    // Nine rows of corner components (row c: component c % 3 of corner c / 3), `stride` floats apart,
+    // each readable 16 floats past the last triangle (TriangleKernels::ray_rows).
+    std::vector<float> rows;
+    std::size_t stride = 0;
+    WideBvhStats stats;
+
+private:
+    std::unique_ptr<WideNode[], AlignedDelete> node_storage_;
+    friend class WideBvhBuilder;
+};
+
+// Closest hit (kOcclusion false) or any hit of one ray, exactly as the kd-tree's single-ray traversal
+// answers (the same watertight test: the same t; at equal t another triangle may be the one found);
+// counters (may be null in the plain forms) count rays, inner_steps, leaves and triangle_tests.
+struct WideBvhKernels {
+    Isa isa;
+    Hit (*intersect)(const WideBvh& bvh, const Ray& ray);
+    Hit (*occluded)(const WideBvh& bvh, const Ray& ray);
+    Hit (*intersect_counted)(const WideBvh& bvh, const Ray& ray, QueryCounters* counters);
+    Hit (*occluded_counted)(const WideBvh& bvh, const Ray& ray, QueryCounters* counters);
+};
+
+const WideBvhKernels& wide_bvh_kernels(Isa isa);
+inline const WideBvhKernels& wide_bvh_kernels() { return wide_bvh_kernels(best_isa()); }
+
+}  // namespace beamtrace::bvh
+
+BEAMTRACE_KERNEL_TABLE(beamtrace::bvh::WideBvhKernels);

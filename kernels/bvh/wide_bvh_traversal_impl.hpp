@@ -1,0 +1,91 @@
+#pragma once
+// The SIMD lane policy of the wide BVH's traversal (wide_bvh_traversal.hpp) for one xsimd Arch:
+// the eight children's slab distances a register at a time (two SSE registers; AVX-512 uses the low
+// eight lanes of one register, loaded under a mask), the leaf by ray_rows. Included only by the
+// per-ISA units (simd/kernels_<isa>.cpp).
+#include <type_traits>
+
+#include <immintrin.h>
+#include <xsimd/xsimd.hpp>
+
+#include "bvh/wide_bvh_traversal.hpp"
+#include "common/triangle_kernels_impl.hpp"
+#include "simd/lane_bits.hpp"
+
+namespace beamtrace::bvh {
+
+template <class Arch>
+struct SimdLanes {
+    using B = xsimd::batch<float, Arch>;
+    static constexpr int kRegister = int(B::size);
+    static constexpr int kLanes = kRegister < kWidth ? kRegister : kWidth;  // children per register
+    static constexpr bool kHalf = kRegister > kWidth;                        // AVX-512: 8 of 16 lanes
+
+    struct Prepared {
+        B org[3], inv[3];
+        bool upper_first[3];
+    };
+    static Prepared prepare(const BoxRay& r) {
+        Prepared p;
+        for (int a = 0; a < 3; ++a) {
+            p.org[a] = B(r.org[a]);
+            p.inv[a] = B(r.inv[a]);
+            p.upper_first[a] = r.upper_first[a];
+        }
+        return p;
+    }
+
+    static B load(const float* at) {
+        if constexpr (kHalf) {
+#if defined(__AVX512F__)
+            return B(_mm512_maskz_loadu_ps(__mmask16(0xFF), at));
+#endif
+        } else {
+            return B::load_aligned(at);
+        }
+    }
+
+    // ScalarLanes::node's operations, kLanes children at a time: max/min with the running value as
+    // the second operand (a NaN distance keeps it, as the reference's comparisons do).
+    static std::uint32_t node(const Prepared& r, const WideNode& n, float tnear, float tfar, float* dist) {
+        std::uint32_t bits = 0;
+        for (int base = 0; base < kWidth; base += kLanes) {
+            B tn(tnear), tf(tfar);
+            for (int a = 0; a < 3; ++a) {
+                const float* near_plane = (r.upper_first[a] ? n.upper[a] : n.lower[a]) + base;
+                const float* far_plane = (r.upper_first[a] ? n.lower[a] : n.upper[a]) + base;
+                const B t0 = (load(near_plane) - r.org[a]) * r.inv[a];
+                const B t1 = (load(far_plane) - r.org[a]) * r.inv[a];
+                tn = xsimd::max(t0, tn);
+                tf = xsimd::min(t1, tf);
+            }
+            tn = tn - xsimd::abs(tn) * B(kBoxSlack);
+            tf = tf + xsimd::abs(tf) * B(kBoxSlack);
+            tn.store_aligned(dist + base);
+            bits |= (simd::lane_bits<Arch>(tn <= tf) & ((1u << kLanes) - 1u)) << base;
+        }
+        return bits;
+    }
+
+    static void leaf(const WatertightRay& w, const float* rows, std::size_t stride, std::uint32_t first, int count,
+                     LaneHits& out) {
+        simd::ray_rows<Arch>(w, rows, stride, first, count, out);
+    }
+};
+
+template <class Arch>
+struct WideBvhLanes {
+    template <bool kOcclusion>
+    static Hit plain(const WideBvh& bvh, const Ray& ray) {
+        return traverse_wide<SimdLanes<Arch>, kOcclusion, false>(bvh, ray, nullptr);
+    }
+    template <bool kOcclusion>
+    static Hit counted(const WideBvh& bvh, const Ray& ray, QueryCounters* c) {
+        return traverse_wide<SimdLanes<Arch>, kOcclusion, true>(bvh, ray, c);
+    }
+    static constexpr WideBvhKernels table(Isa isa) {
+        return WideBvhKernels{isa, plain<false>, plain<true>, counted<false>, counted<true>};
+    }
+};
+
+}  // namespace beamtrace::bvh
