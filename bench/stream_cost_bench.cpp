@@ -19,9 +19,11 @@
 //   <scene>/diffuse_single  diffuse bounces (one closest-hit ray per primary hit) one by one, by origin cell (per ray)
 //   <scene>/diffuse_bvh     the same through the wide BVH, by origin cell (per ray)
 //   <scene>/diffuse_bvh_shuffled  the same in the shuffled order (per ray)
+//   <scene>/diffuse_bvh_leafN     diffuse_bvh with leaves of at most N triangles (8 above; per ray)
 //   <scene>/diffuse_group   the same, 16 consecutive ones a group, masked group traversal (per ray)
-//   <scene>/diffuse_stream  the whole StreamTracer::intersect call on them, shuffled (per ray)
-//   <scene>/diffuse_stream_singles  the same with StreamSettings::group_loose_rays off (per ray)
+//   <scene>/diffuse_stream  the whole StreamTracer::intersect call on them, shuffled, defaults (per ray)
+//   <scene>/diffuse_stream_kd       the same without the wide BVH: loose groups through the kd-tree (per ray)
+//   <scene>/diffuse_stream_singles  the same with loose rays one by one through the kd-tree (per ray)
 //
 // Time is the thread's CPU time; everything runs on one thread.
 #include <benchmark/benchmark.h>
@@ -247,17 +249,20 @@ void bm_single(benchmark::State& state, const std::string& name, bool sorted) {
 }
 
 // The scene's wide BVH, built once per scene (its build time is reported once, as a counter).
-const bvh::WideBvh& wide_bvh(const KdTree& tree) {
-    static std::map<const void*, std::shared_ptr<const bvh::WideBvh>> cache;
-    auto& slot = cache[&detail::Access::impl(tree)];
-    if (!slot) slot = bvh::WideBvh::build(tree.scene());
+const bvh::WideBvh& wide_bvh(const KdTree& tree, int leaf) {
+    static std::map<std::pair<const void*, int>, std::shared_ptr<const bvh::WideBvh>> cache;
+    auto& slot = cache[{&detail::Access::impl(tree), leaf}];
+    bvh::WideBvhSettings s;
+    s.max_leaf_triangles = leaf;
+    if (!slot) slot = bvh::WideBvh::build(tree.scene(), s);
     return *slot;
 }
 
 // Rays one by one through the wide BVH (occlusion or closest hit), with the per-ray counts of a
 // counted pass.
-void bvh_rays(benchmark::State& state, const KdTree& tree, const std::vector<Ray>& rays, bool occlusion) {
-    const bvh::WideBvh& b = wide_bvh(tree);
+void bvh_rays(benchmark::State& state, const KdTree& tree, const std::vector<Ray>& rays, bool occlusion,
+              int leaf = bvh::WideBvhSettings{}.max_leaf_triangles) {
+    const bvh::WideBvh& b = wide_bvh(tree, leaf);
     const bvh::WideBvhKernels& k = bvh::wide_bvh_kernels();
     std::size_t next = 0;
     float sum = 0;
@@ -335,10 +340,25 @@ void bm_diffuse_single(benchmark::State& state, const std::string& name) {
     per_ray(state, 1);
 }
 
-void bm_diffuse_bvh(benchmark::State& state, const std::string& name, bool shuffled) {
+// The rays 256 at a time through the interleaved walks (bvh::WideBvhKernels::trace_many).
+void bvh_many(benchmark::State& state, const KdTree& tree, const std::vector<Ray>& rays, bool occlusion) {
+    const bvh::WideBvh& b = wide_bvh(tree, bvh::WideBvhSettings{}.max_leaf_triangles);
+    const bvh::WideBvhKernels& k = bvh::wide_bvh_kernels();
+    std::vector<Hit> hits(256);
+    std::size_t next = 0;
+    for (auto _ : state) {
+        const std::uint32_t n = std::uint32_t(std::min<std::size_t>(256, rays.size() - next));
+        k.trace_many(b, rays.data() + next, n, occlusion, hits.data(), nullptr);
+        benchmark::DoNotOptimize(hits.data());
+        next = next + n == rays.size() ? 0 : next + n;
+    }
+    per_ray(state, 256);
+}
+
+void bm_diffuse_bvh(benchmark::State& state, const std::string& name, bool shuffled, int leaf) {
     DiffuseCase& c = diffuse_case(name);
     if (!c.error.empty()) return state.SkipWithError(c.error.c_str());
-    bvh_rays(state, *c.tree, shuffled ? c.shuffled : c.by_origin, false);
+    bvh_rays(state, *c.tree, shuffled ? c.shuffled : c.by_origin, false, leaf);
 }
 
 void bm_diffuse_group(benchmark::State& state, const std::string& name) {
@@ -368,11 +388,12 @@ void bm_diffuse_group(benchmark::State& state, const std::string& name) {
     state.counters["tests_per_group"] = double(counters.triangle_tests) / g;
 }
 
-void bm_diffuse_stream(benchmark::State& state, const std::string& name, bool loose_groups) {
+void bm_diffuse_stream(benchmark::State& state, const std::string& name, bool loose_groups, bool wide_bvh) {
     DiffuseCase& c = diffuse_case(name);
     if (!c.error.empty()) return state.SkipWithError(c.error.c_str());
     StreamSettings settings;
     settings.group_loose_rays = loose_groups;
+    settings.wide_bvh = wide_bvh;
     const StreamTracer tracer(*c.tree, settings);
     std::vector<Hit> hits(c.shuffled.size());
     for (auto _ : state) {
@@ -402,11 +423,31 @@ void register_benchmarks() {
         reg("bvh_shuffled", [name](benchmark::State& s) { bm_bvh(s, name, false); });
         reg("stream", [name](benchmark::State& s) { bm_stream(s, name); });
         reg("diffuse_single", [name](benchmark::State& s) { bm_diffuse_single(s, name); });
-        reg("diffuse_bvh", [name](benchmark::State& s) { bm_diffuse_bvh(s, name, false); });
-        reg("diffuse_bvh_shuffled", [name](benchmark::State& s) { bm_diffuse_bvh(s, name, true); });
+        reg("diffuse_bvh", [name](benchmark::State& s) { bm_diffuse_bvh(s, name, false, 8); });
+        reg("diffuse_bvh_shuffled", [name](benchmark::State& s) { bm_diffuse_bvh(s, name, true, 8); });
+        reg("diffuse_bvh_many", [name](benchmark::State& s) {
+            DiffuseCase& c = diffuse_case(name);
+            if (!c.error.empty()) return s.SkipWithError(c.error.c_str());
+            bvh_many(s, *c.tree, c.by_origin, false);
+        });
+        reg("bvh_many", [name](benchmark::State& s) {
+            StreamCase& c = stream_case(name);
+            if (!usable(s, c)) return;
+            bvh_many(s, *c.tree, c.sorted, true);
+        });
+        reg("diffuse_bvh_hot", [name](benchmark::State& s) {
+            DiffuseCase& c = diffuse_case(name);
+            if (!c.error.empty()) return s.SkipWithError(c.error.c_str());
+            const std::vector<Ray> few(c.by_origin.begin(), c.by_origin.begin() + 1024);
+            bvh_rays(s, *c.tree, few, false, 8);
+        });
+        for (int leaf : {2, 4, 16})
+            reg(("diffuse_bvh_leaf" + std::to_string(leaf)).c_str(),
+                [name, leaf](benchmark::State& s) { bm_diffuse_bvh(s, name, false, leaf); });
         reg("diffuse_group", [name](benchmark::State& s) { bm_diffuse_group(s, name); });
-        reg("diffuse_stream", [name](benchmark::State& s) { bm_diffuse_stream(s, name, true); });
-        reg("diffuse_stream_singles", [name](benchmark::State& s) { bm_diffuse_stream(s, name, false); });
+        reg("diffuse_stream", [name](benchmark::State& s) { bm_diffuse_stream(s, name, true, true); });
+        reg("diffuse_stream_kd", [name](benchmark::State& s) { bm_diffuse_stream(s, name, true, false); });
+        reg("diffuse_stream_singles", [name](benchmark::State& s) { bm_diffuse_stream(s, name, false, false); });
     }
 }
 

@@ -21,6 +21,7 @@
 // the kd-tree's (the same triangle tests; with equal distances, which of two triangles is reported
 // may differ), and occlusion is exact.
 #include <cstdint>
+#include <memory>
 #include <span>
 
 #include "beamtrace/kdtree.hpp"
@@ -28,6 +29,10 @@
 #include "beamtrace/ray.hpp"
 
 namespace beamtrace {
+
+namespace bvh {
+class WideBvh;
+}
 
 struct StreamSettings {
     // Sort the rays into groups (false: every ray by the single-ray traversal in input order; the
@@ -43,6 +48,11 @@ struct StreamSettings {
     // bounces) go through the masked group traversal 16 sorted neighbours at a time (beyond the
     // papers; docs/streams.md); false: one by one. The same answers.
     bool group_loose_rays = true;
+    // Rays traced alone (in no group, loose, or every ray when sort is off) go through a wide BVH (8
+    // children a node) the tracer builds over the tree's scene, instead of the kd-tree's single-ray
+    // traversal (beyond the papers; docs/streams.md "Single rays through a wide BVH"). Loose rays then
+    // go one by one (group_loose_rays is for the kd-tree's traversal). The same answers.
+    bool wide_bvh = true;
 
     static constexpr int kMaxSharedPoints = 16;
 
@@ -69,10 +79,14 @@ public:
 
     const KdTree& tree() const { return tree_; }
     const StreamSettings& settings() const { return settings_; }
+    // The wide BVH's bytes (nodes, ids, corner rows) and build time; 0 without it.
+    std::size_t wide_bvh_bytes() const;
+    double wide_bvh_build_seconds() const;
 
 private:
     KdTree tree_;
     StreamSettings settings_;
+    std::shared_ptr<const bvh::WideBvh> bvh_;  // settings_.wide_bvh
 };
 
 // The order a StreamTracer with these settings over a scene with this box traces `rays` in

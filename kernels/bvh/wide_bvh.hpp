@@ -1,7 +1,7 @@
 #pragma once
 // A wide bounding volume hierarchy: eight children a node, boxes of the children stored side by side
 // (one register of each of the six planes), leaves of at most 16 triangles whose corners are nine
-// rows of floats (the layout TriangleKernels::ray_rows reads). For the single rays no coherent
+// rows of floats in one block per leaf (the layout TriangleKernels::ray_rows reads). For the single rays no coherent
 // structure of the papers serves (diffuse bounces, the stragglers of a sorted stream): beyond every
 // paper this project follows, built only when a stream tracer asks for it (docs/wide_bvh.md).
 #include <cstddef>
@@ -76,10 +76,11 @@ public:
     std::uint32_t root = kEmpty;          // a child reference (a leaf for a small scene)
     const WideNode* nodes = nullptr;      // nodes[0 .. stats.inner_nodes)
     std::vector<std::uint32_t> triangle_ids;  // the BVH order: leaf triangles side by side
-    // Nine rows of corner components (row c: component c % 3 of corner c / 3), `stride` floats apart,
-    // each readable 16 floats past the last triangle (TriangleKernels::ray_rows).
+    // The corners of each leaf in one block: the leaf of triangles first .. first + n - 1 (BVH order)
+    // has its nine rows of n floats (row c: component c % 3 of corner c / 3) at rows + 9 * first,
+    // n floats apart, as TriangleKernels::ray_rows reads them (stride n); 16 floats of padding end
+    // the array, so every row is readable 16 floats on. A leaf is a few consecutive cache lines.
     std::vector<float> rows;
-    std::size_t stride = 0;
     WideBvhStats stats;
 
 private:
@@ -96,6 +97,10 @@ struct WideBvhKernels {
     Hit (*occluded)(const WideBvh& bvh, const Ray& ray);
     Hit (*intersect_counted)(const WideBvh& bvh, const Ray& ray, QueryCounters* counters);
     Hit (*occluded_counted)(const WideBvh& bvh, const Ray& ray, QueryCounters* counters);
+    // Rays 0 .. n - 1 (closest hit, or any hit with occlusion) into hits[0 .. n - 1], several walks
+    // interleaved (the same answers); counters may be null.
+    void (*trace_many)(const WideBvh& bvh, const Ray* rays, std::uint32_t n, bool occlusion, Hit* hits,
+                       QueryCounters* counters);
 };
 
 const WideBvhKernels& wide_bvh_kernels(Isa isa);

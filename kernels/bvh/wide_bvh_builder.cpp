@@ -216,6 +216,21 @@ public:
         return index;
     }
 
+    // The corner block of every leaf under ref.
+    static void fill_rows(WideBvh& b, const Scene& scene, std::uint32_t ref) {
+        if (ref == kEmpty) return;
+        if (!is_leaf(ref)) {
+            for (int c = 0; c < kWidth; ++c) fill_rows(b, scene, b.nodes[ref].child[c]);
+            return;
+        }
+        const std::uint32_t first = leaf_first(ref), n = leaf_count(ref);
+        float* block = b.rows.data() + 9 * std::size_t(first);
+        for (std::uint32_t i = 0; i < n; ++i) {
+            const float* v = &scene.triangle(b.triangle_ids[first + i]).v0.x;
+            for (std::uint32_t c = 0; c < 9; ++c) block[c * n + i] = v[c];
+        }
+    }
+
     static std::shared_ptr<const WideBvh> build(const Scene& scene, const WideBvhSettings& settings) {
         settings.validate();
         const auto start = std::chrono::steady_clock::now();
@@ -258,14 +273,9 @@ public:
             }
         }
         bvh->triangle_ids.resize(n);
-        bvh->stride = std::size_t(n) + 16;
-        bvh->rows.assign(9 * bvh->stride, 0.0f);
-        for (std::uint32_t k = 0; k < n; ++k) {
-            const std::uint32_t id = prims[k].id;
-            bvh->triangle_ids[k] = id;
-            const float* v = &scene.triangle(id).v0.x;
-            for (int c = 0; c < 9; ++c) bvh->rows[std::size_t(c) * bvh->stride + k] = v[c];
-        }
+        for (std::uint32_t k = 0; k < n; ++k) bvh->triangle_ids[k] = prims[k].id;
+        bvh->rows.assign(9 * std::size_t(n) + 16, 0.0f);
+        fill_rows(*bvh, scene, bvh->root);
         bvh->stats.triangles = n;
         bvh->stats.memory_bytes = bvh->stats.inner_nodes * sizeof(WideNode) +
                                   bvh->triangle_ids.size() * sizeof(std::uint32_t) + bvh->rows.size() * sizeof(float);

@@ -23,14 +23,16 @@ struct SimdLanes {
 
     struct Prepared {
         B org[3], inv[3];
-        bool upper_first[3];
+        std::size_t near[3], far[3];  // offsets (floats) of the near and far planes' rows in a node
     };
     static Prepared prepare(const BoxRay& r) {
         Prepared p;
         for (int a = 0; a < 3; ++a) {
             p.org[a] = B(r.org[a]);
             p.inv[a] = B(r.inv[a]);
-            p.upper_first[a] = r.upper_first[a];
+            const std::size_t lower = std::size_t(a) * kWidth, upper = std::size_t(3 + a) * kWidth;
+            p.near[a] = r.upper_first[a] ? upper : lower;
+            p.far[a] = r.upper_first[a] ? lower : upper;
         }
         return p;
     }
@@ -45,22 +47,27 @@ struct SimdLanes {
         }
     }
 
-    // ScalarLanes::node's operations, kLanes children at a time: max/min with the running value as
-    // the second operand (a NaN distance keeps it, as the reference's comparisons do).
+    // ScalarLanes::node's operations, kLanes children at a time (xsimd::max(a, b) and min(a, b) are
+    // the instructions whose NaN rule the reference's comparisons copy).
+    template <bool kForward>
     static std::uint32_t node(const Prepared& r, const WideNode& n, float tnear, float tfar, float* dist) {
         std::uint32_t bits = 0;
+        const float* planes = &n.lower[0][0];
         for (int base = 0; base < kWidth; base += kLanes) {
-            B tn(tnear), tf(tfar);
+            B t0[3], t1[3];
             for (int a = 0; a < 3; ++a) {
-                const float* near_plane = (r.upper_first[a] ? n.upper[a] : n.lower[a]) + base;
-                const float* far_plane = (r.upper_first[a] ? n.lower[a] : n.upper[a]) + base;
-                const B t0 = (load(near_plane) - r.org[a]) * r.inv[a];
-                const B t1 = (load(far_plane) - r.org[a]) * r.inv[a];
-                tn = xsimd::max(t0, tn);
-                tf = xsimd::min(t1, tf);
+                t0[a] = (load(planes + r.near[a] + base) - r.org[a]) * r.inv[a];
+                t1[a] = (load(planes + r.far[a] + base) - r.org[a]) * r.inv[a];
             }
-            tn = tn - xsimd::abs(tn) * B(kBoxSlack);
-            tf = tf + xsimd::abs(tf) * B(kBoxSlack);
+            B tn = xsimd::max(xsimd::max(t0[0], t0[1]), xsimd::max(t0[2], B(tnear)));
+            B tf = xsimd::min(xsimd::min(t1[0], t1[1]), xsimd::min(t1[2], B(tfar)));
+            if constexpr (kForward) {
+                tn = tn * B(kEntryScale);
+                tf = tf * B(kExitScale);
+            } else {
+                tn = tn - xsimd::abs(tn) * B(kBoxSlack);
+                tf = tf + xsimd::abs(tf) * B(kBoxSlack);
+            }
             tn.store_aligned(dist + base);
             bits |= (simd::lane_bits<Arch>(tn <= tf) & ((1u << kLanes) - 1u)) << base;
         }
@@ -84,7 +91,7 @@ struct WideBvhLanes {
         return traverse_wide<SimdLanes<Arch>, kOcclusion, true>(bvh, ray, c);
     }
     static constexpr WideBvhKernels table(Isa isa) {
-        return WideBvhKernels{isa, plain<false>, plain<true>, counted<false>, counted<true>};
+        return WideBvhKernels{isa, plain<false>, plain<true>, counted<false>, counted<true>, trace_wide_many<SimdLanes<Arch>>};
     }
 };
 

@@ -15,6 +15,7 @@
 #include <tbb/task_arena.h>
 
 #include "beamtrace/error.hpp"
+#include "bvh/wide_bvh.hpp"
 #include "common/access.hpp"
 #include "common/huge_page_allocator.hpp"
 #include "common/morton.hpp"
@@ -41,7 +42,11 @@ void StreamSettings::validate() const {
 
 StreamTracer::StreamTracer(const KdTree& tree, const StreamSettings& settings) : tree_(tree), settings_(settings) {
     settings_.validate();
+    if (settings_.wide_bvh) bvh_ = bvh::WideBvh::build(tree_.scene());
 }
+
+std::size_t StreamTracer::wide_bvh_bytes() const { return bvh_ ? bvh_->stats.memory_bytes : 0; }
+double StreamTracer::wide_bvh_build_seconds() const { return bvh_ ? bvh_->stats.build_seconds : 0.0; }
 
 namespace {
 
@@ -57,6 +62,11 @@ struct SortedStream {
     std::vector<Ray, HugePageAllocator<Ray>> rays;  // in sorted order (huge pages: common/huge_page_allocator.hpp)
     stream::RaySortBuffers sort_buffers;
     std::vector<RayGroup> groups;
+    // The answers by sorted position, written to the caller's spans in input order at the end of the
+    // call: written there directly, ray by ray between walks, the scattered stores evicted the
+    // trees' lines from the caches (docs/streams.md, "Answers in sorted order").
+    std::vector<Hit, HugePageAllocator<Hit>> hits;
+    std::vector<std::uint8_t, HugePageAllocator<std::uint8_t>> occluded;
 };
 
 // Runs f in an arena of `threads` threads (on the calling thread when 1).
@@ -177,12 +187,21 @@ LooseWindow loose_window(std::size_t call_rays) {
     return {w, (std::countr_zero(w) - 4) / 2};
 }
 
+// One ray through the wide BVH (counted when kCount).
+template <bool kOcclusion, bool kCount>
+Hit bvh_single(const bvh::WideBvhKernels& k, const bvh::WideBvh& b, const Ray& ray, QueryCounters* c) {
+    if constexpr (kCount) return (kOcclusion ? k.occluded_counted : k.intersect_counted)(b, ray, c);
+    return (kOcclusion ? k.occluded : k.intersect)(b, ray);
+}
+
 template <bool kOcclusion, class Out>
 class StreamTrace {
 public:
     StreamTrace(const KdTree::Impl& kd, const KdExperimental& x, const SortedStream& sorted, std::uint32_t min_group_rays,
-                bool group_loose_rays, Out* out)
+                bool group_loose_rays, const bvh::WideBvh* wide_bvh, Out* out)
         : kd_(kd),
+          bvh_(wide_bvh),
+          bvh_kernels_(bvh::wide_bvh_kernels(kd.kernels->isa)),
           context_{kd, kd.packet_tables(), x.triangle_culling},
           root_(kdtree::root_start(kd)),
           rays_(sorted.rays.data()),
@@ -210,7 +229,7 @@ public:
                     break;
                 case RayGroup::Kind::no_segment:
                     for (std::uint32_t k = group.begin; k < group.begin + group.count; ++k)
-                        write(sorted_.order[k], Hit{});
+                        write(k, Hit{});
                     break;
             }
             ++g;
@@ -270,17 +289,21 @@ private:
         kdtree::trace_packets_together<kOcclusion, kCount>(context_, traced, n, root_, hits_of, bits_of, c);
         for (int k = 0; k < n; ++k) {
             const RayGroup& g = sorted_.groups[first + std::size_t(k)];
-            write_lanes([&](std::uint32_t i) { return sorted_.order[g.begin + i]; }, g.count, &hits[k], bits[k]);
+            write_lanes([&](std::uint32_t i) { return g.begin + i; }, g.count, &hits[k], bits[k]);
         }
         return last;
     }
 
-    // The rays of sorted positions [begin, end) one by one.
+    // The rays of sorted positions [begin, end) one by one (through the wide BVH when there is one).
     template <bool kCount>
     void singles(std::uint32_t begin, std::uint32_t end, QueryCounters* c) const {
+        if (bvh_) {
+            for (std::uint32_t k = begin; k < end; ++k) write(k, bvh_single<kOcclusion, kCount>(bvh_kernels_, *bvh_, rays_[k], c));
+            return;
+        }
         const kdtree::CornerRows rows = context_.tables.rows();
         for (std::uint32_t k = begin; k < end; ++k)
-            write(sorted_.order[k],
+            write(k,
                   kdtree::traverse_ray_in_rows<kOcclusion, kCount>(kd_, rays_[k], rows.at, rows.stride, c));
     }
 
@@ -290,7 +313,7 @@ private:
     template <bool kCount>
     void loose(std::uint32_t begin, std::uint32_t end, QueryCounters* c) const {
         const std::uint32_t count = end - begin;
-        if (!group_loose_rays_ || count < min_group_rays_) {
+        if (bvh_ || !group_loose_rays_ || count < min_group_rays_) {
             if constexpr (kCount) c->stream.single_rays += count;
             singles<kCount>(begin, end, c);
             return;
@@ -332,7 +355,7 @@ private:
         PacketHits16 hits;
         std::uint32_t bits = 0;
         stream::trace_group<kOcclusion, kCount>(kd_, packet, &hits, &bits, c);
-        write_lanes([&](std::uint32_t i) { return sorted_.order[at(i)]; }, n, &hits, bits);
+        write_lanes([&](std::uint32_t i) { return at(i); }, n, &hits, bits);
     }
 
     // A cell's rays, each origin's next to each other (the sort's origin hash; two origins that share
@@ -374,14 +397,15 @@ private:
                std::bit_cast<std::uint32_t>(a.org.z) == std::bit_cast<std::uint32_t>(b.org.z);
     }
 
-    void write(std::uint32_t index, const Hit& h) const {
+    // The answer of the ray at sorted position `position`.
+    void write(std::uint32_t position, const Hit& h) const {
         if constexpr (kOcclusion)
-            out_[index] = h.hit();
+            out_[position] = h.hit();
         else
-            out_[index] = h;
+            out_[position] = h;
     }
 
-    // Lanes 0 .. count - 1 of a packet's answers to the input indices index(i).
+    // Lanes 0 .. count - 1 of a packet's answers to the sorted positions index(i).
     template <class Index>
     void write_lanes(Index index, std::uint32_t count, const PacketHits16* hits, std::uint32_t bits) const {
         for (std::uint32_t i = 0; i < count; ++i) {
@@ -393,6 +417,8 @@ private:
     }
 
     const KdTree::Impl& kd_;
+    const bvh::WideBvh* bvh_;  // null: single rays by the kd-tree
+    const bvh::WideBvhKernels& bvh_kernels_;
     kdtree::PacketTraversalContext context_;
     kdtree::TraversalStart root_;
     const Ray* rays_;  // in sorted order
@@ -400,13 +426,28 @@ private:
     std::uint32_t min_group_rays_;
     bool group_loose_rays_;
     LooseWindow window_;
-    Out* out_;
+    Out* out_;  // the answers by sorted position (trace_stream writes them out in input order)
     double tolerance_;
 };
 
 template <bool kOcclusion, class Out>
-void trace_stream(const KdTree& tree, const StreamSettings& s, std::span<const Ray> rays, Out* out,
-                  const QueryOptions& options) {
+void trace_stream(const KdTree& tree, const StreamSettings& s, const bvh::WideBvh* wide_bvh, std::span<const Ray> rays,
+                  Out* out, const QueryOptions& options) {
+    if (!s.sort && wide_bvh) {
+        const bvh::WideBvhKernels& k = bvh::wide_bvh_kernels(detail::Access::impl(tree).kernels->isa);
+        run_query(rays.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
+            for (std::size_t i = b; i < e; ++i) {
+                const Hit h = c ? bvh_single<kOcclusion, true>(k, *wide_bvh, rays[i], c)
+                                : bvh_single<kOcclusion, false>(k, *wide_bvh, rays[i], nullptr);
+                if constexpr (kOcclusion)
+                    out[i] = h.hit();
+                else
+                    out[i] = h;
+            }
+        });
+        if (options.counters) options.counters->stream.rays += rays.size();
+        return;
+    }
     if (!s.sort) {
         if constexpr (kOcclusion)
             tree.occluded(rays, std::span<std::uint8_t>(out, rays.size()), options);
@@ -433,13 +474,25 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, std::span<const R
     } release{use_kept};
     sort_stream(kd.scene.bounds(), s, rays, kOcclusion, options, kd.kernels->isa, sorted);
     const auto sorted_at = std::chrono::steady_clock::now();
+    Out* by_position;
+    if constexpr (kOcclusion) {
+        sorted.occluded.resize(rays.size());
+        by_position = sorted.occluded.data();
+    } else {
+        sorted.hits.resize(rays.size());
+        by_position = sorted.hits.data();
+    }
     const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, std::uint32_t(s.min_group_rays),
-                                              s.group_loose_rays, out);
+                                              s.group_loose_rays, wide_bvh, by_position);
     run_query(sorted.groups.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
         if (c)
             trace.template groups<true>(b, e, c);
         else
             trace.template groups<false>(b, e, nullptr);
+    });
+    run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
+        const std::uint32_t* order = sorted.order.data();
+        for (std::size_t k = b; k < e; ++k) out[order[k]] = by_position[k];
     });
     if (options.counters) {
         options.counters->stream.rays += rays.size();
@@ -450,18 +503,24 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, std::span<const R
 
 }  // namespace
 
-Hit StreamTracer::intersect(const Ray& ray) const { return tree_.intersect(ray); }
-bool StreamTracer::occluded(const Ray& ray) const { return tree_.occluded(ray); }
+Hit StreamTracer::intersect(const Ray& ray) const {
+    return bvh_ ? bvh::wide_bvh_kernels(detail::Access::impl(tree_).kernels->isa).intersect(*bvh_, ray)
+                : tree_.intersect(ray);
+}
+bool StreamTracer::occluded(const Ray& ray) const {
+    return bvh_ ? bvh::wide_bvh_kernels(detail::Access::impl(tree_).kernels->isa).occluded(*bvh_, ray).hit()
+                : tree_.occluded(ray);
+}
 
 void StreamTracer::intersect(std::span<const Ray> rays, std::span<Hit> hits, const QueryOptions& options) const {
     check_query("StreamTracer::intersect", rays.size(), hits.size(), options);
-    trace_stream<false>(tree_, settings_, rays, hits.data(), options);
+    trace_stream<false>(tree_, settings_, bvh_.get(), rays, hits.data(), options);
 }
 
 void StreamTracer::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                             const QueryOptions& options) const {
     check_query("StreamTracer::occluded", rays.size(), occluded.size(), options);
-    trace_stream<true>(tree_, settings_, rays, occluded.data(), options);
+    trace_stream<true>(tree_, settings_, bvh_.get(), rays, occluded.data(), options);
 }
 
 void StreamTracer::intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits,

@@ -97,7 +97,8 @@ void check_subtree(const bvh::WideBvh& b, const Scene& scene, std::uint32_t ref,
             const Triangle& t = scene.triangle(id);
             EXPECT_TRUE(box.contains(t.v0) && box.contains(t.v1) && box.contains(t.v2));
             const float* v = &t.v0.x;
-            for (int c = 0; c < 9; ++c) EXPECT_EQ(b.rows[std::size_t(c) * b.stride + k], v[c]);
+            const std::size_t first = bvh::leaf_first(ref);
+            for (std::size_t c = 0; c < 9; ++c) EXPECT_EQ(b.rows[9 * first + c * n + (k - first)], v[c]);
         }
         return;
     }

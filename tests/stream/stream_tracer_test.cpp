@@ -128,7 +128,33 @@ TEST_P(StreamTracerScenes, AnswersAsTheKdTree) {
     std::vector<std::uint8_t> want_occluded(rays.size());
     tree.intersect(rays, want);
     tree.occluded(rays, want_occluded);
-    const StreamTracer tracer(tree);
+    // The defaults: rays in no group through the wide BVH.
+    const StreamTracer with_bvh(tree);
+    EXPECT_GT(with_bvh.wide_bvh_bytes(), 0u);
+    QueryCounters by_bvh;
+    const Answers bvh_answers = answers(with_bvh, rays, QueryOptions{1, &by_bvh});
+    expect_same_hits(s, rays, bvh_answers.hits, want, "sorted, wide BVH");
+    EXPECT_EQ(bvh_answers.occluded, want_occluded);
+    EXPECT_GT(by_bvh.stream.origin_groups, 0u);
+    EXPECT_GT(by_bvh.stream.pencil_packets, 0u);
+    EXPECT_EQ(by_bvh.stream.loose_groups, 0u);
+    EXPECT_GT(by_bvh.stream.single_rays, 0u);
+    EXPECT_EQ(by_bvh.rays, by_bvh.stream.single_rays);  // every single ray went through the BVH
+    for (std::size_t i = 0; i < rays.size(); i += 97) {
+        const Hit h = with_bvh.intersect(rays[i]);
+        EXPECT_EQ(h.t, want[i].t) << "ray " << i;
+        EXPECT_EQ(with_bvh.occluded(rays[i]), bool(want_occluded[i])) << "ray " << i;
+    }
+    StreamSettings unsorted_bvh;
+    unsorted_bvh.sort = false;
+    const Answers plain_bvh = answers(StreamTracer(tree, unsorted_bvh), rays, QueryOptions{2, nullptr});
+    expect_same_hits(s, rays, plain_bvh.hits, want, "unsorted, wide BVH, two threads");
+    EXPECT_EQ(plain_bvh.occluded, want_occluded);
+    // The kd-tree alone.
+    StreamSettings kd_only;
+    kd_only.wide_bvh = false;
+    const StreamTracer tracer(tree, kd_only);
+    EXPECT_EQ(tracer.wide_bvh_bytes(), 0u);
     QueryCounters counters;
     const Answers got = answers(tracer, rays, QueryOptions{1, &counters});
     expect_same_hits(s, rays, got.hits, want, "sorted");
@@ -146,13 +172,13 @@ TEST_P(StreamTracerScenes, AnswersAsTheKdTree) {
     const Answers two = answers(tracer, rays, QueryOptions{2, nullptr});
     expect_same_hits(s, rays, two.hits, want, "two threads");
     EXPECT_EQ(two.occluded, want_occluded);
-    StreamSettings unsorted;
+    StreamSettings unsorted = kd_only;
     unsorted.sort = false;
     const Answers plain = answers(StreamTracer(tree, unsorted), rays);
     expect_same_hits(s, rays, plain.hits, want, "unsorted");
     EXPECT_EQ(plain.occluded, want_occluded);
     // Loose rays one by one: the same answers.
-    StreamSettings one_by_one;
+    StreamSettings one_by_one = kd_only;
     one_by_one.group_loose_rays = false;
     QueryCounters alone;
     const Answers singles = answers(StreamTracer(tree, one_by_one), rays, QueryOptions{1, &alone});
@@ -162,7 +188,7 @@ TEST_P(StreamTracerScenes, AnswersAsTheKdTree) {
     EXPECT_GE(alone.stream.single_rays, counters.stream.loose_group_rays);
 }
 
-TEST_P(StreamTracerScenes, DiffuseBouncesGoInLooseGroupsAndAnswerAsTheKdTree) {
+TEST_P(StreamTracerScenes, DiffuseBouncesGoInLooseGroupsOrTheWideBvhAndAnswerAsTheKdTree) {
     // One closest-hit ray from each of 20,000 points (a diffuse bounce per hit): no two share an
     // origin or an end point, so every ray is loose; in windows of sorted neighbours, put in order
     // of direction, they go 16 at a time through the masked group traversal.
@@ -177,10 +203,18 @@ TEST_P(StreamTracerScenes, DiffuseBouncesGoInLooseGroupsAndAnswerAsTheKdTree) {
         const Float3 o{b.lower.x + e.x * u(random), b.lower.y + e.y * u(random), b.lower.z + e.z * u(random)};
         rays.push_back(Ray{o, 0.0f, Float3{u(random) - 0.5f, u(random) - 0.5f, u(random) - 0.5f}, kInfinity});
     }
-    const QueryCounters counters = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), rays, "loose groups");
+    StreamSettings kd_only;
+    kd_only.wide_bvh = false;
+    const QueryCounters counters =
+        expect_the_kd_trees_answers(s, tree, StreamTracer(tree, kd_only), rays, "loose groups");
     EXPECT_EQ(counters.stream.loose_group_rays, 2 * rays.size());
     EXPECT_EQ(counters.stream.single_rays, 0u);
     EXPECT_GE(double(counters.stream.loose_group_rays) / double(counters.stream.loose_groups), 15.0);
+    // With the wide BVH (the default) every one of them goes through it alone.
+    const QueryCounters by_bvh = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), rays, "wide BVH");
+    EXPECT_EQ(by_bvh.stream.single_rays, 2 * rays.size());
+    EXPECT_EQ(by_bvh.rays, 2 * rays.size());
+    EXPECT_EQ(by_bvh.stream.loose_groups, 0u);
 }
 
 TEST_P(StreamTracerScenes, AnswersDoNotDependOnTheInputOrder) {

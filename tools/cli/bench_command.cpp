@@ -222,6 +222,9 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_flag("--stream-loose-groups,!--no-stream-loose-groups", args->stream.group_loose_rays,
                   "stream: rays in no group (diffuse bounces) go 16 sorted neighbours at a time through the masked "
                   "group traversal (default on; off: one by one, the same answers)");
+    cmd->add_flag("--stream-wide-bvh,!--no-stream-wide-bvh", args->stream.wide_bvh,
+                  "stream: rays in no group (and every ray with --no-stream-sort) go through a wide BVH built for the "
+                  "tracer, one by one (default on; off: the kd-tree's single-ray traversal, the same answers)");
     cmd->add_option("--stream-min-group", args->stream.min_group_rays,
                     "stream: groups of fewer rays go ray by ray (2 .. 16)")
         ->capture_default_str();

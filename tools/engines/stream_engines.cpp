@@ -1,5 +1,5 @@
 // stream (the library's StreamTracer: arbitrary rays hashed, sorted and grouped, then traced by the
-// kd-tree) and embree-sorted (Embree's single-ray calls fed the stream tracer's sorted order, the
+// kd-tree, rays in no group by a wide BVH) and embree-sorted (Embree's single-ray calls fed the stream tracer's sorted order, the
 // sort untimed: what sorting alone gives Embree, so that the gain of sorting and the gain of the
 // stream tracer's kernels are told apart; not an anchor).
 #include <chrono>
@@ -22,8 +22,11 @@ public:
         tree_ = build_packet_tree(scene, options);
         tracer_ = std::make_unique<StreamTracer>(*tree_, options.stream);
     }
-    double build_seconds() const override { return tree_->stats().build_seconds; }
-    std::size_t memory_bytes() const override { return tree_->stats().bytes + tree_->packet_table_bytes(); }
+    // The kd-tree's build and the wide BVH's (StreamSettings::wide_bvh).
+    double build_seconds() const override { return tree_->stats().build_seconds + tracer_->wide_bvh_build_seconds(); }
+    std::size_t memory_bytes() const override {
+        return tree_->stats().bytes + tree_->packet_table_bytes() + tracer_->wide_bvh_bytes();
+    }
 
     void prepare(const RaySet& rays) override { prepared_.prepare(rays); }
 
@@ -70,7 +73,10 @@ public:
             {"buffer_bytes", tracer_->settings().sort ? s.rays * (4 + 4 + 4 + 4 + sizeof(Ray) + 40) + groups * 12 : 0},
             {"sort", tracer_->settings().sort},
             {"min_group_rays", tracer_->settings().min_group_rays},
-            {"group_loose_rays", tracer_->settings().group_loose_rays}};
+            {"group_loose_rays", tracer_->settings().group_loose_rays},
+            {"wide_bvh", tracer_->settings().wide_bvh},
+            {"wide_bvh_bytes", tracer_->wide_bvh_bytes()},
+            {"wide_bvh_build_seconds", tracer_->wide_bvh_build_seconds()}};
         j.update(tree_json(tree_->stats()));
         return j;
     }
