@@ -19,6 +19,8 @@
 //   <scene>/diffuse_single  diffuse bounces (one closest-hit ray per primary hit) one by one, by origin cell (per ray)
 //   <scene>/diffuse_bvh     the same through the wide BVH, by origin cell (per ray)
 //   <scene>/diffuse_bvh_shuffled  the same in the shuffled order (per ray)
+//   <scene>/diffuse_bvh_hot       diffuse_bvh on the first 1,024 rays only (the nodes they meet stay in
+//                                 cache: the arithmetic's and the branches' share; per ray)
 //   <scene>/diffuse_bvh_leafN     diffuse_bvh with leaves of at most N triangles (8 above; per ray)
 //   <scene>/diffuse_group   the same, 16 consecutive ones a group, masked group traversal (per ray)
 //   <scene>/diffuse_stream  the whole StreamTracer::intersect call on them, shuffled, defaults (per ray)
@@ -340,21 +342,6 @@ void bm_diffuse_single(benchmark::State& state, const std::string& name) {
     per_ray(state, 1);
 }
 
-// The rays 256 at a time through the interleaved walks (bvh::WideBvhKernels::trace_many).
-void bvh_many(benchmark::State& state, const KdTree& tree, const std::vector<Ray>& rays, bool occlusion) {
-    const bvh::WideBvh& b = wide_bvh(tree, bvh::WideBvhSettings{}.max_leaf_triangles);
-    const bvh::WideBvhKernels& k = bvh::wide_bvh_kernels();
-    std::vector<Hit> hits(256);
-    std::size_t next = 0;
-    for (auto _ : state) {
-        const std::uint32_t n = std::uint32_t(std::min<std::size_t>(256, rays.size() - next));
-        k.trace_many(b, rays.data() + next, n, occlusion, hits.data(), nullptr);
-        benchmark::DoNotOptimize(hits.data());
-        next = next + n == rays.size() ? 0 : next + n;
-    }
-    per_ray(state, 256);
-}
-
 void bm_diffuse_bvh(benchmark::State& state, const std::string& name, bool shuffled, int leaf) {
     DiffuseCase& c = diffuse_case(name);
     if (!c.error.empty()) return state.SkipWithError(c.error.c_str());
@@ -425,16 +412,6 @@ void register_benchmarks() {
         reg("diffuse_single", [name](benchmark::State& s) { bm_diffuse_single(s, name); });
         reg("diffuse_bvh", [name](benchmark::State& s) { bm_diffuse_bvh(s, name, false, 8); });
         reg("diffuse_bvh_shuffled", [name](benchmark::State& s) { bm_diffuse_bvh(s, name, true, 8); });
-        reg("diffuse_bvh_many", [name](benchmark::State& s) {
-            DiffuseCase& c = diffuse_case(name);
-            if (!c.error.empty()) return s.SkipWithError(c.error.c_str());
-            bvh_many(s, *c.tree, c.by_origin, false);
-        });
-        reg("bvh_many", [name](benchmark::State& s) {
-            StreamCase& c = stream_case(name);
-            if (!usable(s, c)) return;
-            bvh_many(s, *c.tree, c.sorted, true);
-        });
         reg("diffuse_bvh_hot", [name](benchmark::State& s) {
             DiffuseCase& c = diffuse_case(name);
             if (!c.error.empty()) return s.SkipWithError(c.error.c_str());

@@ -24,7 +24,6 @@ const beamtrace::bvh::WideBvhKernels&
 beamtrace::simd::table<beamtrace::bvh::WideBvhKernels, beamtrace::Isa::scalar>() {
     static constexpr beamtrace::bvh::WideBvhKernels k{
         beamtrace::Isa::scalar, beamtrace::bvh::plain<false>, beamtrace::bvh::plain<true>,
-        beamtrace::bvh::counted<false>, beamtrace::bvh::counted<true>,
-        beamtrace::bvh::trace_wide_many<beamtrace::bvh::ScalarLanes>};
+        beamtrace::bvh::counted<false>, beamtrace::bvh::counted<true>};
     return k;
 }

@@ -23,11 +23,13 @@ namespace beamtrace::bvh {
 // kd-tree's, kdtree/ray_traversal.hpp): slab distances and the triangle test's t carry rounding,
 // and a triangle on a box's face must never be lost.
 constexpr float kBoxSlack = 1.0f / 1048576.0f;
+constexpr float kEntryScale = 1.0f - kBoxSlack, kExitScale = 1.0f + kBoxSlack;
 
 // The per-ray values of the box tests: the origin, the reciprocals of the direction and, per axis,
 // whether the upper plane is met first (negative reciprocal, -0 and -inf included).
 struct BoxRay {
     float org[3], inv[3];
+    float inv_near[3], inv_far[3];  // inv * kEntryScale, inv * kExitScale (the forward form)
     bool upper_first[3];
 };
 
@@ -36,6 +38,8 @@ inline BoxRay make_box_ray(const Ray& ray) {
     for (int a = 0; a < 3; ++a) {
         b.org[a] = ray.org[a];
         b.inv[a] = 1.0f / ray.dir[a];
+        b.inv_near[a] = b.inv[a] * kEntryScale;
+        b.inv_far[a] = b.inv[a] * kExitScale;
         b.upper_first[a] = std::signbit(b.inv[a]);
     }
     return b;
@@ -48,11 +52,12 @@ inline BoxRay make_box_ray(const Ray& ray) {
 // a > b ? a : b and a < b ? a : b, what the SIMD max and min instructions do (a NaN first operand
 // gives the second, a NaN second operand is kept and then dropped by the outer level, whose second
 // operand is never NaN), so a NaN distance only ever drops a constraint: no box is culled by it.
-// The slack: for a ray with tnear >= 0 (kForward) entry * (1 - s) <= exit * (1 + s) (entry >= 0, so
-// these bound the true distances; an exit below 0 fails either way, as it must); otherwise
-// entry - |entry| s <= exit + |exit| s.
-constexpr float kEntryScale = 1.0f - kBoxSlack, kExitScale = 1.0f + kBoxSlack;
-
+// The slack: for a ray with tnear >= 0 (kForward) the distances are taken with the reciprocals
+// scaled by 1 - s (near planes) and 1 + s (far planes) and tnear, tfar scaled the same way: every
+// entry at or beyond 0 is then below the true one and every exit at or beyond 0 above it (the
+// roundings are far below s), and an entry below 0 never decides the largest entry, which is at
+// least tnear * (1 - s) >= 0 (an exit below 0 fails the test, as the box is behind the ray);
+// otherwise entry - |entry| s <= exit + |exit| s on the unscaled distances.
 inline float max_keeping(float a, float b) { return a > b ? a : b; }
 inline float min_keeping(float a, float b) { return a < b ? a : b; }
 
@@ -70,15 +75,14 @@ struct ScalarLanes {
             for (int a = 0; a < 3; ++a) {
                 const float near_plane = r.upper_first[a] ? n.upper[a][c] : n.lower[a][c];
                 const float far_plane = r.upper_first[a] ? n.lower[a][c] : n.upper[a][c];
-                t0[a] = (near_plane - r.org[a]) * r.inv[a];
-                t1[a] = (far_plane - r.org[a]) * r.inv[a];
+                t0[a] = (near_plane - r.org[a]) * (kForward ? r.inv_near[a] : r.inv[a]);
+                t1[a] = (far_plane - r.org[a]) * (kForward ? r.inv_far[a] : r.inv[a]);
             }
-            float tn = max_keeping(max_keeping(t0[0], t0[1]), max_keeping(t0[2], tnear));
-            float tf = min_keeping(min_keeping(t1[0], t1[1]), min_keeping(t1[2], tfar));
-            if constexpr (kForward) {
-                tn = tn * kEntryScale;
-                tf = tf * kExitScale;
-            } else {
+            const float t_start = kForward ? tnear * kEntryScale : tnear;
+            const float t_end = kForward ? tfar * kExitScale : tfar;
+            float tn = max_keeping(max_keeping(t0[0], t0[1]), max_keeping(t0[2], t_start));
+            float tf = min_keeping(min_keeping(t1[0], t1[1]), min_keeping(t1[2], t_end));
+            if constexpr (!kForward) {
                 tn = tn - std::fabs(tn) * kBoxSlack;
                 tf = tf + std::fabs(tf) * kBoxSlack;
             }
@@ -107,8 +111,8 @@ struct ScalarLanes {
     }
 };
 
-// One ray's walk, a node or a leaf a step, so that several walks can be interleaved (their chains
-// of dependent loads and arithmetic overlap: traverse_wide_many).
+// One ray's walk, a node or a leaf a step. (Four walks interleaved a step each in turn, so that
+// their chains of dependent loads and arithmetic overlap, were measured slower: docs/streams.md.)
 template <class Lanes, bool kOcclusion, bool kCount>
 class WideWalk {
 public:
@@ -132,7 +136,7 @@ public:
         if (!is_leaf(ref_)) {
             if constexpr (kCount) ++counters->inner_steps;
             const WideNode& node = bvh.nodes[ref_];
-            alignas(64) float dist[16];
+            alignas(64) float dist[kWidth < 16 ? 16 : kWidth];
             std::uint32_t bits = forward_ ? Lanes::template node<true>(prepared_, node, tnear_, tfar_, dist)
                                           : Lanes::template node<false>(prepared_, node, tnear_, tfar_, dist);
             if (bits != 0) {
@@ -143,7 +147,8 @@ public:
                     return true;
                 }
                 // Several: pushed nearest on top (insertion by entry distance; at equal distance the
-                // later child first, the same order for every policy).
+                // later child first, the same order for every policy). Tried and not kept: their
+                // memory requested here; sorting every hit child's key by an AVX-512 network.
                 const int base = top_;
                 stack_[top_++] = Entry{node.child[c], dist[c]};
                 do {
@@ -220,60 +225,5 @@ Hit traverse_wide(const WideBvh& bvh, const Ray& ray, QueryCounters* counters) {
     return walk.answer();
 }
 
-// How many walks traverse_wide_many interleaves.
-constexpr int kInterleavedWalks = 4;
-
-// Rays 0 .. n - 1 answered into hits[0 .. n - 1], kInterleavedWalks walks interleaved a step each in
-// turn (a finished walk takes the next ray): each ray's answer is traverse_wide's.
-template <class Lanes, bool kOcclusion, bool kCount>
-void traverse_wide_many(const WideBvh& bvh, const Ray* rays, std::uint32_t n, Hit* hits, QueryCounters* counters) {
-    constexpr int kWalks = kInterleavedWalks;
-    WideWalk<Lanes, kOcclusion, kCount> walks[kWalks];
-    std::uint32_t ray_of[kWalks] = {};
-    std::uint32_t next = 0;
-    // The next ray with a walk into slot k; false when none is left.
-    const auto fill = [&](int k) {
-        while (next < n) {
-            const std::uint32_t i = next++;
-            if (walks[k].start(bvh, rays[i], counters)) {
-                ray_of[k] = i;
-                return true;
-            }
-            hits[i] = Hit{};
-        }
-        return false;
-    };
-    std::uint32_t live = 0;  // bit k: slot k walks
-    for (int k = 0; k < kWalks; ++k)
-        if (fill(k)) live |= 1u << k;
-    while (live != 0) {
-        for (int k = 0; k < kWalks; ++k) {
-            if (((live >> k) & 1u) == 0 || walks[k].step(bvh, counters)) continue;
-            hits[ray_of[k]] = walks[k].answer();
-            if (!fill(k)) live &= ~(1u << k);
-        }
-    }
-}
-
 }  // namespace beamtrace::bvh
 
-namespace beamtrace::bvh {
-
-// traverse_wide_many with the counting chosen at run time (counters null: none), for the tables.
-template <class Lanes>
-void trace_wide_many(const WideBvh& bvh, const Ray* rays, std::uint32_t n, bool occlusion, Hit* hits,
-                     QueryCounters* counters) {
-    if (counters) {
-        if (occlusion)
-            traverse_wide_many<Lanes, true, true>(bvh, rays, n, hits, counters);
-        else
-            traverse_wide_many<Lanes, false, true>(bvh, rays, n, hits, counters);
-    } else {
-        if (occlusion)
-            traverse_wide_many<Lanes, true, false>(bvh, rays, n, hits, nullptr);
-        else
-            traverse_wide_many<Lanes, false, false>(bvh, rays, n, hits, nullptr);
-    }
-}
-
-}  // namespace beamtrace::bvh

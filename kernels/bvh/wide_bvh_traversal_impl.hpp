@@ -22,7 +22,7 @@ struct SimdLanes {
     static constexpr bool kHalf = kRegister > kWidth;                        // AVX-512: 8 of 16 lanes
 
     struct Prepared {
-        B org[3], inv[3];
+        B org[3], inv[3], inv_near[3], inv_far[3];
         std::size_t near[3], far[3];  // offsets (floats) of the near and far planes' rows in a node
     };
     static Prepared prepare(const BoxRay& r) {
@@ -30,6 +30,8 @@ struct SimdLanes {
         for (int a = 0; a < 3; ++a) {
             p.org[a] = B(r.org[a]);
             p.inv[a] = B(r.inv[a]);
+            p.inv_near[a] = B(r.inv_near[a]);
+            p.inv_far[a] = B(r.inv_far[a]);
             const std::size_t lower = std::size_t(a) * kWidth, upper = std::size_t(3 + a) * kWidth;
             p.near[a] = r.upper_first[a] ? upper : lower;
             p.far[a] = r.upper_first[a] ? lower : upper;
@@ -56,15 +58,13 @@ struct SimdLanes {
         for (int base = 0; base < kWidth; base += kLanes) {
             B t0[3], t1[3];
             for (int a = 0; a < 3; ++a) {
-                t0[a] = (load(planes + r.near[a] + base) - r.org[a]) * r.inv[a];
-                t1[a] = (load(planes + r.far[a] + base) - r.org[a]) * r.inv[a];
+                t0[a] = (load(planes + r.near[a] + base) - r.org[a]) * (kForward ? r.inv_near[a] : r.inv[a]);
+                t1[a] = (load(planes + r.far[a] + base) - r.org[a]) * (kForward ? r.inv_far[a] : r.inv[a]);
             }
-            B tn = xsimd::max(xsimd::max(t0[0], t0[1]), xsimd::max(t0[2], B(tnear)));
-            B tf = xsimd::min(xsimd::min(t1[0], t1[1]), xsimd::min(t1[2], B(tfar)));
-            if constexpr (kForward) {
-                tn = tn * B(kEntryScale);
-                tf = tf * B(kExitScale);
-            } else {
+            const B t_start(kForward ? tnear * kEntryScale : tnear), t_end(kForward ? tfar * kExitScale : tfar);
+            B tn = xsimd::max(xsimd::max(t0[0], t0[1]), xsimd::max(t0[2], t_start));
+            B tf = xsimd::min(xsimd::min(t1[0], t1[1]), xsimd::min(t1[2], t_end));
+            if constexpr (!kForward) {
                 tn = tn - xsimd::abs(tn) * B(kBoxSlack);
                 tf = tf + xsimd::abs(tf) * B(kBoxSlack);
             }
@@ -91,7 +91,7 @@ struct WideBvhLanes {
         return traverse_wide<SimdLanes<Arch>, kOcclusion, true>(bvh, ray, c);
     }
     static constexpr WideBvhKernels table(Isa isa) {
-        return WideBvhKernels{isa, plain<false>, plain<true>, counted<false>, counted<true>, trace_wide_many<SimdLanes<Arch>>};
+        return WideBvhKernels{isa, plain<false>, plain<true>, counted<false>, counted<true>};
     }
 };
 
