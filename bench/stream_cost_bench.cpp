@@ -21,7 +21,7 @@
 //   <scene>/diffuse_bvh_shuffled  the same in the shuffled order (per ray)
 //   <scene>/diffuse_bvh_hot       diffuse_bvh on the first 1,024 rays only (the nodes they meet stay in
 //                                 cache: the arithmetic's and the branches' share; per ray)
-//   <scene>/diffuse_bvh_leafN     diffuse_bvh with leaves of at most N triangles (8 above; per ray)
+//   <scene>/diffuse_bvh_leafN     diffuse_bvh with leaves of at most N triangles (12 above; per ray)
 //   <scene>/diffuse_group   the same, 16 consecutive ones a group, masked group traversal (per ray)
 //   <scene>/diffuse_stream  the whole StreamTracer::intersect call on them, shuffled, defaults (per ray)
 //   <scene>/diffuse_stream_kd       the same without the wide BVH: loose groups through the kd-tree (per ray)
@@ -410,17 +410,18 @@ void register_benchmarks() {
         reg("bvh_shuffled", [name](benchmark::State& s) { bm_bvh(s, name, false); });
         reg("stream", [name](benchmark::State& s) { bm_stream(s, name); });
         reg("diffuse_single", [name](benchmark::State& s) { bm_diffuse_single(s, name); });
-        reg("diffuse_bvh", [name](benchmark::State& s) { bm_diffuse_bvh(s, name, false, 8); });
-        reg("diffuse_bvh_shuffled", [name](benchmark::State& s) { bm_diffuse_bvh(s, name, true, 8); });
-        reg("diffuse_bvh_hot", [name](benchmark::State& s) {
+        const int leaf = bvh::WideBvhSettings{}.max_leaf_triangles;
+        reg("diffuse_bvh", [name, leaf](benchmark::State& s) { bm_diffuse_bvh(s, name, false, leaf); });
+        reg("diffuse_bvh_shuffled", [name, leaf](benchmark::State& s) { bm_diffuse_bvh(s, name, true, leaf); });
+        reg("diffuse_bvh_hot", [name, leaf](benchmark::State& s) {
             DiffuseCase& c = diffuse_case(name);
             if (!c.error.empty()) return s.SkipWithError(c.error.c_str());
             const std::vector<Ray> few(c.by_origin.begin(), c.by_origin.begin() + 1024);
-            bvh_rays(s, *c.tree, few, false, 8);
+            bvh_rays(s, *c.tree, few, false, leaf);
         });
-        for (int leaf : {2, 4, 16})
-            reg(("diffuse_bvh_leaf" + std::to_string(leaf)).c_str(),
-                [name, leaf](benchmark::State& s) { bm_diffuse_bvh(s, name, false, leaf); });
+        for (int other : {4, 8, 16})
+            reg(("diffuse_bvh_leaf" + std::to_string(other)).c_str(),
+                [name, other](benchmark::State& s) { bm_diffuse_bvh(s, name, false, other); });
         reg("diffuse_group", [name](benchmark::State& s) { bm_diffuse_group(s, name); });
         reg("diffuse_stream", [name](benchmark::State& s) { bm_diffuse_stream(s, name, true, true); });
         reg("diffuse_stream_kd", [name](benchmark::State& s) { bm_diffuse_stream(s, name, true, false); });

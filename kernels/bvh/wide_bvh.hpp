@@ -49,7 +49,7 @@ static_assert(sizeof(WideNode) == 32 * kWidth);
 struct WideBvhSettings {
     // Leaves hold at most this many triangles (1 .. kMaxLeafTriangles); a range is split by binned
     // surface area heuristic until it fits.
-    int max_leaf_triangles = 8;
+    int max_leaf_triangles = 12;
     int bins = 16;  // centroid bins per axis (4 .. 64)
 
     // Throws beamtrace::Error for a value out of range.

@@ -143,7 +143,7 @@ TEST(WideBvh, CoincidentCentresStillSplit) {
     const Scene scene = soup.scene();
     const auto b = bvh::WideBvh::build(scene);
     std::vector<int> seen(scene.triangle_count(), 0);
-    check_subtree(*b, scene, b->root, scene.bounds(), 8, seen);
+    check_subtree(*b, scene, b->root, scene.bounds(), bvh::WideBvhSettings{}.max_leaf_triangles, seen);
     for (int s : seen) EXPECT_EQ(s, 1);
     const Hit h = bvh::wide_bvh_kernels().intersect(*b, Ray{{0.25f, 0.25f, 1}, 0, {0, 0, -1}, kInfinity});
     EXPECT_TRUE(h.hit());

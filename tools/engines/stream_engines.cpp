@@ -69,8 +69,10 @@ public:
             {"triangle_tests_per_ray", double(c.triangle_tests) / n},
             // The calling thread's buffers of a call of these rays (docs/streams.md): keys, origin
             // hashes, order, sorted keys, sorted rays, the sort's 40-byte records of a ray and its
-            // word (stream/ray_sort.hpp), groups.
-            {"buffer_bytes", tracer_->settings().sort ? s.rays * (4 + 4 + 4 + 4 + sizeof(Ray) + 40) + groups * 12 : 0},
+            // word (stream/ray_sort.hpp), groups, the answers by sorted position.
+            {"buffer_bytes", tracer_->settings().sort
+                                 ? s.rays * (4 + 4 + 4 + 4 + sizeof(Ray) + 40 + (closest ? sizeof(Hit) : 1)) + groups * 12
+                                 : 0},
             {"sort", tracer_->settings().sort},
             {"min_group_rays", tracer_->settings().min_group_rays},
             {"group_loose_rays", tracer_->settings().group_loose_rays},
