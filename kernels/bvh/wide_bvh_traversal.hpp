@@ -14,7 +14,6 @@
 #include "bvh/wide_bvh.hpp"
 #include "common/ray_validity.hpp"
 #include "common/triangle_kernels.hpp"
-#include "common/triangle_reference.hpp"
 #include "common/watertight_ray.hpp"
 
 namespace beamtrace::bvh {
@@ -92,22 +91,10 @@ struct ScalarLanes {
         return bits;
     }
 
-    // The leaf's triangles first .. first + count - 1 of the rows, as TriangleKernels::ray_rows does.
+    // The leaf's triangles first .. first + count - 1 of the rows: the scalar reference's ray_rows.
     static void leaf(const WatertightRay& w, const float* rows, std::size_t stride, std::uint32_t first, int count,
                      LaneHits& out) {
-        out.mask = 0;
-        for (int i = 0; i < count; ++i) {
-            Triangle tri;
-            float* v = &tri.v0.x;
-            for (int c = 0; c < 9; ++c) v[c] = rows[std::size_t(c) * stride + first + std::uint32_t(i)];
-            TriangleHit h;
-            if (intersect_triangle(w, tri, h)) {
-                out.t[i] = h.t;
-                out.u[i] = h.u;
-                out.v[i] = h.v;
-                out.mask |= 1u << i;
-            }
-        }
+        triangle_kernels(Isa::scalar).ray_rows(w, rows, stride, first, count, out);
     }
 };
 

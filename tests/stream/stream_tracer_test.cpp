@@ -131,10 +131,7 @@ TEST_P(StreamTracerScenes, AnswersAsTheKdTree) {
     // The defaults: rays in no group through the wide BVH.
     const StreamTracer with_bvh(tree);
     EXPECT_GT(with_bvh.wide_bvh_bytes(), 0u);
-    QueryCounters by_bvh;
-    const Answers bvh_answers = answers(with_bvh, rays, QueryOptions{1, &by_bvh});
-    expect_same_hits(s, rays, bvh_answers.hits, want, "sorted, wide BVH");
-    EXPECT_EQ(bvh_answers.occluded, want_occluded);
+    const QueryCounters by_bvh = expect_the_kd_trees_answers(s, tree, with_bvh, rays, "sorted, wide BVH");
     EXPECT_GT(by_bvh.stream.origin_groups, 0u);
     EXPECT_GT(by_bvh.stream.pencil_packets, 0u);
     EXPECT_EQ(by_bvh.stream.loose_groups, 0u);
