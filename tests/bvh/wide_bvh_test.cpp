@@ -162,6 +162,22 @@ TEST(WideBvh, SmallSceneIsOneLeaf) {
     EXPECT_EQ(h.triangle, 0u);
 }
 
+TEST(WideBvh, OnlyDegenerateTrianglesMakeAnEmptyTreeThatNothingHits) {
+    test::Soup soup;
+    soup.add({0, 0, 0}, {0, 0, 0}, {0, 1, 0});
+    soup.add({0, 0, 0}, {1, 1, 1}, {2, 2, 2});
+    const Scene scene = soup.scene();
+    const auto b = bvh::WideBvh::build(scene);
+    EXPECT_EQ(b->root, bvh::kEmpty);
+    EXPECT_EQ(b->stats.triangles, 0u);
+    const Ray ray{{0.1f, 0.1f, 1}, 0, {0, 0, -1}, kInfinity};
+    for (Isa isa : {Isa::scalar, Isa::sse42, Isa::avx2, Isa::avx512}) {
+        if (isa != Isa::scalar && !isa_available(isa)) continue;
+        EXPECT_FALSE(bvh::wide_bvh_kernels(isa).intersect(*b, ray).hit());
+        EXPECT_FALSE(bvh::wide_bvh_kernels(isa).occluded(*b, ray).hit());
+    }
+}
+
 TEST(WideBvh, RefusesBadSettings) {
     const Scene scene = test::single_plane(4);
     for (int leaf : {0, 17}) {
