@@ -35,7 +35,7 @@ inline std::uint32_t make_leaf(std::uint32_t first, std::uint32_t count) {
 }
 
 // 512 bytes, eight cache lines: the 16 children's boxes plane by plane (lower x of the 16, then lower
-// y, ...: one AVX-512 register a plane), their references. Sixteen children, not Embree's eight:
+// y, ...: one AVX-512 register a plane), their references. Sixteen children, not the usual eight:
 // fewer levels on a ray's way down (bunny diffuse bounces 7.1 -> 5.4 nodes a ray, room 4.7 -> 3.7),
 // measured faster (docs/streams.md, "Single rays through a wide BVH").
 struct alignas(64) WideNode {

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <cstdlib>
-#include <cstring>
+#include <limits>
+#include <memory>
 #include <new>
 #include <string>
 
