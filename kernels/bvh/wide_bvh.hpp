@@ -1,5 +1,5 @@
 #pragma once
-// A wide bounding volume hierarchy: sixteen children a node, boxes of the children stored side by side
+// A wide bounding volume hierarchy: thirty-two children a node, boxes of the children stored side by side
 // (one register of each of the six planes), leaves of at most 16 triangles whose corners are nine
 // rows of floats in one block per leaf (the layout TriangleKernels::ray_rows reads). For the single rays no coherent
 // structure of the papers serves (diffuse bounces, the stragglers of a sorted stream): beyond every
@@ -17,7 +17,7 @@
 
 namespace beamtrace::bvh {
 
-constexpr int kWidth = 16;
+constexpr int kWidth = 32;
 
 // A child reference: an inner node's index, a leaf (kLeafBit | (count - 1) << kCountShift | first
 // triangle of the BVH order) or kEmpty (a child slot with no box: lower +inf, upper -inf).
@@ -34,10 +34,12 @@ inline std::uint32_t make_leaf(std::uint32_t first, std::uint32_t count) {
     return kLeafBit | ((count - 1u) << kCountShift) | first;
 }
 
-// 512 bytes, eight cache lines: the 16 children's boxes plane by plane (lower x of the 16, then lower
-// y, ...: one AVX-512 register a plane), their references. Sixteen children, not the usual eight:
-// fewer levels on a ray's way down (bunny diffuse bounces 7.1 -> 5.4 nodes a ray, room 4.7 -> 3.7),
-// measured faster (docs/streams.md, "Single rays through a wide BVH").
+// 1 KB, sixteen cache lines: the 32 children's boxes plane by plane (lower x of the 32, then lower y,
+// ...: two AVX-512 registers a plane), their references. Thirty-two children, not the usual eight:
+// a walk is a chain of dependent steps as long as the levels it goes down, and wider nodes make
+// fewer levels (room diffuse bounces 4.7 nodes a ray with 8 children, 3.1 with 16, 2.1 with 32);
+// measured faster on this project's AVX-512 machine (docs/streams.md, "Single rays through a wide
+// BVH"); not measured on AVX2 or SSE4.2 machines, which test a node in 4 or 8 steps.
 struct alignas(64) WideNode {
     float lower[3][kWidth];
     float upper[3][kWidth];

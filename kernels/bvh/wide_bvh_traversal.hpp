@@ -1,6 +1,6 @@
 #pragma once
 // The single-ray traversal of a wide BVH, written once over a lane policy (the box tests of a node's
-// sixteen children and the test of a leaf's triangles): ScalarLanes below is the reference,
+// 32 children and the test of a leaf's triangles): ScalarLanes below is the reference,
 // wide_bvh_traversal_impl.hpp the SIMD policies of the per-ISA units. Both make the same operations
 // in the same order on the same values, so every policy returns the reference's answer bit for bit.
 //

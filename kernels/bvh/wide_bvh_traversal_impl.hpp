@@ -1,11 +1,7 @@
 #pragma once
 // The SIMD lane policy of the wide BVH's traversal (wide_bvh_traversal.hpp) for one xsimd Arch:
-// the eight children's slab distances a register at a time (two SSE registers; AVX-512 uses the low
-// eight lanes of one register, loaded under a mask), the leaf by ray_rows. Included only by the
-// per-ISA units (simd/kernels_<isa>.cpp).
-#include <type_traits>
-
-#include <immintrin.h>
+// the children's slab distances a register at a time (kWidth / 16 AVX-512 registers, / 8 AVX2, / 4
+// SSE4.2), the leaf by ray_rows. Included only by the per-ISA units (simd/kernels_<isa>.cpp).
 #include <xsimd/xsimd.hpp>
 
 #include "bvh/wide_bvh_traversal.hpp"
@@ -17,9 +13,8 @@ namespace beamtrace::bvh {
 template <class Arch>
 struct SimdLanes {
     using B = xsimd::batch<float, Arch>;
-    static constexpr int kRegister = int(B::size);
-    static constexpr int kLanes = kRegister < kWidth ? kRegister : kWidth;  // children per register
-    static constexpr bool kHalf = kRegister > kWidth;                        // AVX-512: 8 of 16 lanes
+    static constexpr int kLanes = int(B::size);  // children per register
+    static_assert(kWidth % kLanes == 0);
 
     struct Prepared {
         B org[3], inv[3], inv_near[3], inv_far[3];
@@ -39,16 +34,6 @@ struct SimdLanes {
         return p;
     }
 
-    static B load(const float* at) {
-        if constexpr (kHalf) {
-#if defined(__AVX512F__)
-            return B(_mm512_maskz_loadu_ps(__mmask16(0xFF), at));
-#endif
-        } else {
-            return B::load_aligned(at);
-        }
-    }
-
     // ScalarLanes::node's operations, kLanes children at a time (xsimd::max(a, b) and min(a, b) are
     // the instructions whose NaN rule the reference's comparisons copy).
     template <bool kForward>
@@ -58,8 +43,10 @@ struct SimdLanes {
         for (int base = 0; base < kWidth; base += kLanes) {
             B t0[3], t1[3];
             for (int a = 0; a < 3; ++a) {
-                t0[a] = (load(planes + r.near[a] + base) - r.org[a]) * (kForward ? r.inv_near[a] : r.inv[a]);
-                t1[a] = (load(planes + r.far[a] + base) - r.org[a]) * (kForward ? r.inv_far[a] : r.inv[a]);
+                const B near_plane = B::load_aligned(planes + r.near[a] + base);
+                const B far_plane = B::load_aligned(planes + r.far[a] + base);
+                t0[a] = (near_plane - r.org[a]) * (kForward ? r.inv_near[a] : r.inv[a]);
+                t1[a] = (far_plane - r.org[a]) * (kForward ? r.inv_far[a] : r.inv[a]);
             }
             const B t_start(kForward ? tnear * kEntryScale : tnear), t_end(kForward ? tfar * kExitScale : tfar);
             B tn = xsimd::max(xsimd::max(t0[0], t0[1]), xsimd::max(t0[2], t_start));
@@ -69,7 +56,7 @@ struct SimdLanes {
                 tf = tf + xsimd::abs(tf) * B(kBoxSlack);
             }
             tn.store_aligned(dist + base);
-            bits |= (simd::lane_bits<Arch>(tn <= tf) & ((1u << kLanes) - 1u)) << base;
+            bits |= simd::lane_bits<Arch>(tn <= tf) << base;
         }
         return bits;
     }
