@@ -48,7 +48,7 @@ struct StreamSettings {
     // bounces) go through the masked group traversal 16 sorted neighbours at a time (beyond the
     // papers; docs/streams.md); false: one by one. The same answers.
     bool group_loose_rays = true;
-    // Rays traced alone (in no group, loose, or every ray when sort is off) go through a wide BVH (16
+    // Rays traced alone (in no group, loose, or every ray when sort is off) go through a wide BVH (32
     // children a node) the tracer builds over the tree's scene, instead of the kd-tree's single-ray
     // traversal (beyond the papers; docs/streams.md "Single rays through a wide BVH"). Loose rays then
     // go one by one (group_loose_rays is for the kd-tree's traversal). The same answers.
