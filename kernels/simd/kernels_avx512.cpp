@@ -91,3 +91,4 @@ const bvh::WideBvhKernels& simd::table<bvh::WideBvhKernels, Isa::avx512>() {
 }
 
 }  // namespace beamtrace
+#pragma GCC diagnostic pop
