@@ -32,7 +32,8 @@ namespace beamtrace {
 
 namespace bvh {
 class WideBvh;
-}
+struct WideBvhKernels;
+}  // namespace bvh
 
 struct StreamSettings {
     // Sort the rays into groups (false: every ray by the single-ray traversal in input order; the
@@ -86,7 +87,8 @@ public:
 private:
     KdTree tree_;
     StreamSettings settings_;
-    std::shared_ptr<const bvh::WideBvh> bvh_;  // settings_.wide_bvh
+    std::shared_ptr<const bvh::WideBvh> bvh_;           // settings_.wide_bvh
+    const bvh::WideBvhKernels* bvh_kernels_ = nullptr;  // its kernels, of the tree's instruction set
 };
 
 // The order a StreamTracer with these settings over a scene with this box traces `rays` in

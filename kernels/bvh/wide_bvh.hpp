@@ -62,7 +62,7 @@ struct WideBvhSettings {
 
 struct WideBvhStats {
     std::size_t inner_nodes = 0, leaves = 0, triangles = 0;  // triangles: non-degenerate, in leaves
-    int depth = 0;                                          // inner levels from the root to the deepest leaf
+    int depth = 0;                                           // inner levels from the root to the deepest leaf
     double build_seconds = 0;
     std::size_t memory_bytes = 0;  // nodes, ids and corner rows
 };
@@ -79,8 +79,8 @@ public:
     // The deepest stack a traversal needs: (kWidth - 1) entries per inner level.
     static constexpr int kMaxDepth = 80;
 
-    std::uint32_t root = kEmpty;          // a child reference (a leaf for a small scene)
-    const WideNode* nodes = nullptr;      // nodes[0 .. stats.inner_nodes)
+    std::uint32_t root = kEmpty;              // a child reference (a leaf for a small scene)
+    const WideNode* nodes = nullptr;          // nodes[0 .. stats.inner_nodes)
     std::vector<std::uint32_t> triangle_ids;  // the BVH order: leaf triangles side by side
     // The corners of each leaf in one block: the leaf of triangles first .. first + n - 1 (BVH order)
     // has its nine rows of n floats (row c: component c % 3 of corner c / 3) at rows + 9 * first,

@@ -19,8 +19,8 @@ namespace beamtrace::bvh {
 
 void WideBvhSettings::validate() const {
     if (max_leaf_triangles < 1 || max_leaf_triangles > kMaxLeafTriangles)
-        throw Error("WideBvhSettings::max_leaf_triangles must be in 1.." + std::to_string(kMaxLeafTriangles) + ", got " +
-                    std::to_string(max_leaf_triangles));
+        throw Error("WideBvhSettings::max_leaf_triangles must be in 1.." + std::to_string(kMaxLeafTriangles) +
+                    ", got " + std::to_string(max_leaf_triangles));
     if (bins < 4 || bins > 64) throw Error("WideBvhSettings::bins must be in 4..64, got " + std::to_string(bins));
 }
 
@@ -187,7 +187,8 @@ public:
         max_depth = std::max(max_depth, depth);
         std::uint32_t total = 1;
         for (int c = 0; c < n.count; ++c)
-            if (n.children[std::size_t(c)].node) total += count_nodes(*n.children[std::size_t(c)].node, depth + 1, max_depth);
+            if (n.children[std::size_t(c)].node)
+                total += count_nodes(*n.children[std::size_t(c)].node, depth + 1, max_depth);
         return total;
     }
 

@@ -98,119 +98,111 @@ struct ScalarLanes {
     }
 };
 
-// One ray's walk, a node or a leaf a step. (Four walks interleaved a step each in turn, so that
-// their chains of dependent loads and arithmetic overlap, were measured slower: docs/streams.md.)
-template <class Lanes, bool kOcclusion, bool kCount>
-class WideWalk {
-public:
-    // Starts the walk of `ray`; false when there is none (no segment, or an empty BVH): no hit.
-    bool start(const WideBvh& bvh, const Ray& ray, QueryCounters* counters) {
-        if constexpr (kCount) ++counters->rays;
-        if (!describes_segment(ray) || bvh.root == kEmpty) return false;
-        prepared_ = Lanes::prepare(make_box_ray(ray));
-        wray_ = make_watertight_ray(ray);
-        tnear_ = ray.tnear;
-        tfar_ = ray.tfar;
-        forward_ = ray.tnear >= 0.0f;
-        best_ = Hit{};
-        ref_ = bvh.root;
-        top_ = 0;
-        return true;
-    }
-
-    // One node or leaf; false when the walk is over (answer() is final).
-    bool step(const WideBvh& bvh, QueryCounters* counters) {
-        if (!is_leaf(ref_)) {
+// One ray's walk from the root, front to back; kForward: the ray's tnear >= 0 (the scaled-reciprocal
+// form of the box tests).
+template <class Lanes, bool kOcclusion, bool kCount, bool kForward>
+Hit walk_wide(const WideBvh& bvh, const Ray& ray, QueryCounters* counters) {
+    struct Entry {
+        std::uint32_t ref;
+        float tnear;
+    };
+    Entry stack[WideBvh::kMaxDepth * (kWidth - 1) + 1];
+    int top = 0;
+    const typename Lanes::Prepared prepared = Lanes::prepare(make_box_ray(ray));
+    WatertightRay wray = make_watertight_ray(ray);
+    float tfar = ray.tfar;
+    Hit best;
+    std::uint32_t ref = bvh.root;
+    for (;;) {
+        if (!is_leaf(ref)) {
             if constexpr (kCount) ++counters->inner_steps;
-            const WideNode& node = bvh.nodes[ref_];
-            alignas(64) float dist[kWidth < 16 ? 16 : kWidth];
-            std::uint32_t bits = forward_ ? Lanes::template node<true>(prepared_, node, tnear_, tfar_, dist)
-                                          : Lanes::template node<false>(prepared_, node, tnear_, tfar_, dist);
+            const WideNode& node = bvh.nodes[ref];
+            alignas(64) float dist[kWidth];
+            std::uint32_t bits = Lanes::template node<kForward>(prepared, node, ray.tnear, tfar, dist);
             if (bits != 0) {
                 int c = __builtin_ctz(bits);
                 bits &= bits - 1;
                 if (bits == 0) {
-                    ref_ = node.child[c];
-                    return true;
+                    ref = node.child[c];
+                    continue;
                 }
                 // Several: pushed nearest on top (insertion by entry distance; at equal distance the
                 // later child first, the same order for every policy). Tried and not kept: their
-                // memory requested here; sorting every hit child's key by an AVX-512 network.
-                const int base = top_;
-                stack_[top_++] = Entry{node.child[c], dist[c]};
+                // memory requested here; sorting every hit child's key by an AVX-512 network; four
+                // rays' walks interleaved a step each (docs/streams.md).
+                const int base = top;
+                stack[top++] = Entry{node.child[c], dist[c]};
                 do {
                     c = __builtin_ctz(bits);
                     bits &= bits - 1;
                     const Entry e{node.child[c], dist[c]};
-                    int k = top_++;
-                    while (k > base && stack_[k - 1].tnear < e.tnear) {
-                        stack_[k] = stack_[k - 1];
+                    int k = top++;
+                    while (k > base && stack[k - 1].tnear < e.tnear) {
+                        stack[k] = stack[k - 1];
                         --k;
                     }
-                    stack_[k] = e;
+                    stack[k] = e;
                 } while (bits != 0);
-                ref_ = stack_[--top_].ref;
-                return true;
+                ref = stack[--top].ref;
+                continue;
             }
         } else {
-            const std::uint32_t first = leaf_first(ref_);
-            const int count = int(leaf_count(ref_));
+            const std::uint32_t first = leaf_first(ref);
+            const int count = int(leaf_count(ref));
             if constexpr (kCount) {
                 ++counters->leaves;
                 counters->triangle_tests += std::uint64_t(count);
             }
             LaneHits lanes;
-            Lanes::leaf(wray_, bvh.rows.data() + 9 * std::size_t(first), std::size_t(count), 0, count, lanes);
+            Lanes::leaf(wray, bvh.rows.data() + 9 * std::size_t(first), std::size_t(count), 0, count, lanes);
             if constexpr (kOcclusion) {
                 if (lanes.mask != 0) {
                     const int i = __builtin_ctz(lanes.mask);
-                    best_ = Hit{lanes.t[i], bvh.triangle_ids[first + std::uint32_t(i)], lanes.u[i], lanes.v[i]};
-                    return false;
+                    return Hit{lanes.t[i], bvh.triangle_ids[first + std::uint32_t(i)], lanes.u[i], lanes.v[i]};
                 }
             } else {
                 for (std::uint32_t m = lanes.mask; m != 0; m &= m - 1) {
                     const int i = __builtin_ctz(m);
-                    if (lanes.t[i] < best_.t)
-                        best_ = Hit{lanes.t[i], bvh.triangle_ids[first + std::uint32_t(i)], lanes.u[i], lanes.v[i]};
+                    if (lanes.t[i] < best.t)
+                        best = Hit{lanes.t[i], bvh.triangle_ids[first + std::uint32_t(i)], lanes.u[i], lanes.v[i]};
                 }
-                if (best_.hit()) tfar_ = wray_.tfar = best_.t;
+                if (best.hit()) tfar = wray.tfar = best.t;
             }
         }
         // The next entry, skipping those that start beyond the closest hit.
         for (;;) {
-            if (top_ == 0) return false;
-            const Entry& e = stack_[--top_];
-            if (!kOcclusion && e.tnear > tfar_) continue;
-            ref_ = e.ref;
-            return true;
+            if (top == 0) return best;
+            const Entry& e = stack[--top];
+            if (!kOcclusion && e.tnear > tfar) continue;
+            ref = e.ref;
+            break;
         }
     }
-
-    const Hit& answer() const { return best_; }
-
-private:
-    struct Entry {
-        std::uint32_t ref;
-        float tnear;
-    };
-    typename Lanes::Prepared prepared_;
-    WatertightRay wray_;
-    float tnear_ = 0, tfar_ = 0;
-    bool forward_ = true;
-    Hit best_;
-    std::uint32_t ref_ = kEmpty;
-    int top_ = 0;
-    Entry stack_[WideBvh::kMaxDepth * (kWidth - 1) + 1];
-};
+}
 
 template <class Lanes, bool kOcclusion, bool kCount>
 Hit traverse_wide(const WideBvh& bvh, const Ray& ray, QueryCounters* counters) {
-    WideWalk<Lanes, kOcclusion, kCount> walk;
-    if (!walk.start(bvh, ray, counters)) return Hit{};
-    while (walk.step(bvh, counters)) {
-    }
-    return walk.answer();
+    if constexpr (kCount) ++counters->rays;
+    if (!describes_segment(ray) || bvh.root == kEmpty) return Hit{};
+    if (ray.tnear >= 0.0f) return walk_wide<Lanes, kOcclusion, kCount, true>(bvh, ray, counters);
+    return walk_wide<Lanes, kOcclusion, kCount, false>(bvh, ray, counters);
 }
 
-}  // namespace beamtrace::bvh
+// The kernel table of a lane policy (the scalar reference's in wide_bvh_traversal.cpp, the SIMD
+// ones in the per-ISA units).
+template <class Lanes>
+struct WideBvhTable {
+    template <bool kOcclusion>
+    static Hit plain(const WideBvh& bvh, const Ray& ray) {
+        return traverse_wide<Lanes, kOcclusion, false>(bvh, ray, nullptr);
+    }
+    template <bool kOcclusion>
+    static Hit counted(const WideBvh& bvh, const Ray& ray, QueryCounters* c) {
+        return traverse_wide<Lanes, kOcclusion, true>(bvh, ray, c);
+    }
+    static constexpr WideBvhKernels make(Isa isa) {
+        return WideBvhKernels{isa, plain<false>, plain<true>, counted<false>, counted<true>};
+    }
+};
 
+}  // namespace beamtrace::bvh

@@ -67,19 +67,4 @@ struct SimdLanes {
     }
 };
 
-template <class Arch>
-struct WideBvhLanes {
-    template <bool kOcclusion>
-    static Hit plain(const WideBvh& bvh, const Ray& ray) {
-        return traverse_wide<SimdLanes<Arch>, kOcclusion, false>(bvh, ray, nullptr);
-    }
-    template <bool kOcclusion>
-    static Hit counted(const WideBvh& bvh, const Ray& ray, QueryCounters* c) {
-        return traverse_wide<SimdLanes<Arch>, kOcclusion, true>(bvh, ray, c);
-    }
-    static constexpr WideBvhKernels table(Isa isa) {
-        return WideBvhKernels{isa, plain<false>, plain<true>, counted<false>, counted<true>};
-    }
-};
-
 }  // namespace beamtrace::bvh

@@ -56,7 +56,7 @@ const stream::GroupKernels& simd::table<stream::GroupKernels, Isa::avx2>() {
 
 template <>
 const bvh::WideBvhKernels& simd::table<bvh::WideBvhKernels, Isa::avx2>() {
-    static constexpr bvh::WideBvhKernels k = bvh::WideBvhLanes<xsimd::avx2>::table(Isa::avx2);
+    static constexpr bvh::WideBvhKernels k = bvh::WideBvhTable<bvh::SimdLanes<xsimd::avx2>>::make(Isa::avx2);
     return k;
 }
 

@@ -86,7 +86,7 @@ const stream::GroupKernels& simd::table<stream::GroupKernels, Isa::avx512>() {
 
 template <>
 const bvh::WideBvhKernels& simd::table<bvh::WideBvhKernels, Isa::avx512>() {
-    static constexpr bvh::WideBvhKernels k = bvh::WideBvhLanes<xsimd::avx512bw>::table(Isa::avx512);
+    static constexpr bvh::WideBvhKernels k = bvh::WideBvhTable<bvh::SimdLanes<xsimd::avx512bw>>::make(Isa::avx512);
     return k;
 }
 

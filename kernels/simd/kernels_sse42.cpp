@@ -58,7 +58,7 @@ const stream::GroupKernels& simd::table<stream::GroupKernels, Isa::sse42>() {
 
 template <>
 const bvh::WideBvhKernels& simd::table<bvh::WideBvhKernels, Isa::sse42>() {
-    static constexpr bvh::WideBvhKernels k = bvh::WideBvhLanes<xsimd::sse4_2>::table(Isa::sse42);
+    static constexpr bvh::WideBvhKernels k = bvh::WideBvhTable<bvh::SimdLanes<xsimd::sse4_2>>::make(Isa::sse42);
     return k;
 }
 

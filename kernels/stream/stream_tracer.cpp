@@ -35,14 +35,18 @@ void StreamSettings::validate() const {
     if (!(shared_point_fraction > 0.0f && shared_point_fraction <= 1.0f))
         throw Error("StreamSettings: shared_point_fraction must be in (0, 1], not " +
                     std::to_string(shared_point_fraction));
-    if (sample_rays < 0) throw Error("StreamSettings: sample_rays must be at least 0, not " + std::to_string(sample_rays));
+    if (sample_rays < 0)
+        throw Error("StreamSettings: sample_rays must be at least 0, not " + std::to_string(sample_rays));
     if (min_group_rays < 2 || min_group_rays > 16)
         throw Error("StreamSettings: min_group_rays must be in [2, 16], not " + std::to_string(min_group_rays));
 }
 
 StreamTracer::StreamTracer(const KdTree& tree, const StreamSettings& settings) : tree_(tree), settings_(settings) {
     settings_.validate();
-    if (settings_.wide_bvh) bvh_ = bvh::WideBvh::build(tree_.scene());
+    if (settings_.wide_bvh) {
+        bvh_ = bvh::WideBvh::build(tree_.scene());
+        bvh_kernels_ = &bvh::wide_bvh_kernels(detail::Access::impl(tree_).kernels->isa);
+    }
 }
 
 std::size_t StreamTracer::wide_bvh_bytes() const { return bvh_ ? bvh_->stats.memory_bytes : 0; }
@@ -109,7 +113,8 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
         stream::sort_rays(rays, out.keys, out.hashes, out.order, out.sorted_keys, out.rays, options.threads,
                           out.sort_buffers);
     });
-    in_arena(options.threads, [&] { stream::cut_groups(out.sorted_keys, s.min_group_rays, out.groups, options.threads); });
+    in_arena(options.threads,
+             [&] { stream::cut_groups(out.sorted_keys, s.min_group_rays, out.groups, options.threads); });
 }
 
 // The rays of a group as a packet (lanes 0 .. count; the others the ray (0, 0, 0) + t (0, 0, 1),
@@ -187,21 +192,36 @@ LooseWindow loose_window(std::size_t call_rays) {
     return {w, (std::countr_zero(w) - 4) / 2};
 }
 
-// One ray through the wide BVH (counted when kCount).
-template <bool kOcclusion, bool kCount>
-Hit bvh_single(const bvh::WideBvhKernels& k, const bvh::WideBvh& b, const Ray& ray, QueryCounters* c) {
-    if constexpr (kCount) return (kOcclusion ? k.occluded_counted : k.intersect_counted)(b, ray, c);
-    return (kOcclusion ? k.occluded : k.intersect)(b, ray);
+// The wide BVH with its kernels (StreamTracer::bvh_, bvh_kernels_); bvh null: none.
+struct WideBvhUse {
+    const bvh::WideBvh* bvh;
+    const bvh::WideBvhKernels* kernels;
+
+    // One ray through it (counted when kCount).
+    template <bool kOcclusion, bool kCount>
+    Hit trace(const Ray& ray, QueryCounters* c) const {
+        if constexpr (kCount)
+            return (kOcclusion ? kernels->occluded_counted : kernels->intersect_counted)(*bvh, ray, c);
+        return (kOcclusion ? kernels->occluded : kernels->intersect)(*bvh, ray);
+    }
+};
+
+// An answer as the caller's span holds it: the hit, or whether there is one.
+template <bool kOcclusion, class Out>
+void store_answer(Out& slot, const Hit& h) {
+    if constexpr (kOcclusion)
+        slot = h.hit();
+    else
+        slot = h;
 }
 
 template <bool kOcclusion, class Out>
 class StreamTrace {
 public:
-    StreamTrace(const KdTree::Impl& kd, const KdExperimental& x, const SortedStream& sorted, std::uint32_t min_group_rays,
-                bool group_loose_rays, const bvh::WideBvh* wide_bvh, Out* out)
+    StreamTrace(const KdTree::Impl& kd, const KdExperimental& x, const SortedStream& sorted,
+                std::uint32_t min_group_rays, bool group_loose_rays, WideBvhUse wide_bvh, Out* out)
         : kd_(kd),
           bvh_(wide_bvh),
-          bvh_kernels_(bvh::wide_bvh_kernels(kd.kernels->isa)),
           context_{kd, kd.packet_tables(), x.triangle_culling},
           root_(kdtree::root_start(kd)),
           rays_(sorted.rays.data()),
@@ -228,8 +248,7 @@ public:
                     defer<kCount>(pending, group.begin, group.begin + group.count, c);
                     break;
                 case RayGroup::Kind::no_segment:
-                    for (std::uint32_t k = group.begin; k < group.begin + group.count; ++k)
-                        write(k, Hit{});
+                    for (std::uint32_t k = group.begin; k < group.begin + group.count; ++k) write(k, Hit{});
                     break;
             }
             ++g;
@@ -297,14 +316,13 @@ private:
     // The rays of sorted positions [begin, end) one by one (through the wide BVH when there is one).
     template <bool kCount>
     void singles(std::uint32_t begin, std::uint32_t end, QueryCounters* c) const {
-        if (bvh_) {
-            for (std::uint32_t k = begin; k < end; ++k) write(k, bvh_single<kOcclusion, kCount>(bvh_kernels_, *bvh_, rays_[k], c));
+        if (bvh_.bvh) {
+            for (std::uint32_t k = begin; k < end; ++k) write(k, bvh_.template trace<kOcclusion, kCount>(rays_[k], c));
             return;
         }
         const kdtree::CornerRows rows = context_.tables.rows();
         for (std::uint32_t k = begin; k < end; ++k)
-            write(k,
-                  kdtree::traverse_ray_in_rows<kOcclusion, kCount>(kd_, rays_[k], rows.at, rows.stride, c));
+            write(k, kdtree::traverse_ray_in_rows<kOcclusion, kCount>(kd_, rays_[k], rows.at, rows.stride, c));
     }
 
     // Rays of sorted positions [begin, end) in no group: in equal parts of at most 16 neighbours by
@@ -313,7 +331,7 @@ private:
     template <bool kCount>
     void loose(std::uint32_t begin, std::uint32_t end, QueryCounters* c) const {
         const std::uint32_t count = end - begin;
-        if (bvh_ || !group_loose_rays_ || count < min_group_rays_) {
+        if (bvh_.bvh || !group_loose_rays_ || count < min_group_rays_) {
             if constexpr (kCount) c->stream.single_rays += count;
             singles<kCount>(begin, end, c);
             return;
@@ -398,12 +416,7 @@ private:
     }
 
     // The answer of the ray at sorted position `position`.
-    void write(std::uint32_t position, const Hit& h) const {
-        if constexpr (kOcclusion)
-            out_[position] = h.hit();
-        else
-            out_[position] = h;
-    }
+    void write(std::uint32_t position, const Hit& h) const { store_answer<kOcclusion>(out_[position], h); }
 
     // Lanes 0 .. count - 1 of a packet's answers to the sorted positions index(i).
     template <class Index>
@@ -417,8 +430,7 @@ private:
     }
 
     const KdTree::Impl& kd_;
-    const bvh::WideBvh* bvh_;  // null: single rays by the kd-tree
-    const bvh::WideBvhKernels& bvh_kernels_;
+    WideBvhUse bvh_;  // bvh null: single rays by the kd-tree
     kdtree::PacketTraversalContext context_;
     kdtree::TraversalStart root_;
     const Ray* rays_;  // in sorted order
@@ -431,19 +443,13 @@ private:
 };
 
 template <bool kOcclusion, class Out>
-void trace_stream(const KdTree& tree, const StreamSettings& s, const bvh::WideBvh* wide_bvh, std::span<const Ray> rays,
-                  Out* out, const QueryOptions& options) {
-    if (!s.sort && wide_bvh) {
-        const bvh::WideBvhKernels& k = bvh::wide_bvh_kernels(detail::Access::impl(tree).kernels->isa);
+void trace_stream(const KdTree& tree, const StreamSettings& s, WideBvhUse wide_bvh, std::span<const Ray> rays, Out* out,
+                  const QueryOptions& options) {
+    if (!s.sort && wide_bvh.bvh) {
         run_query(rays.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
-            for (std::size_t i = b; i < e; ++i) {
-                const Hit h = c ? bvh_single<kOcclusion, true>(k, *wide_bvh, rays[i], c)
-                                : bvh_single<kOcclusion, false>(k, *wide_bvh, rays[i], nullptr);
-                if constexpr (kOcclusion)
-                    out[i] = h.hit();
-                else
-                    out[i] = h;
-            }
+            for (std::size_t i = b; i < e; ++i)
+                store_answer<kOcclusion>(out[i], c ? wide_bvh.template trace<kOcclusion, true>(rays[i], c)
+                                                   : wide_bvh.template trace<kOcclusion, false>(rays[i], nullptr));
         });
         if (options.counters) options.counters->stream.rays += rays.size();
         return;
@@ -483,7 +489,7 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, const bvh::WideBv
         by_position = sorted.hits.data();
     }
     const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, std::uint32_t(s.min_group_rays),
-                                              s.group_loose_rays, wide_bvh, by_position);
+                                             s.group_loose_rays, wide_bvh, by_position);
     run_query(sorted.groups.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
         if (c)
             trace.template groups<true>(b, e, c);
@@ -504,23 +510,21 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, const bvh::WideBv
 }  // namespace
 
 Hit StreamTracer::intersect(const Ray& ray) const {
-    return bvh_ ? bvh::wide_bvh_kernels(detail::Access::impl(tree_).kernels->isa).intersect(*bvh_, ray)
-                : tree_.intersect(ray);
+    return bvh_ ? bvh_kernels_->intersect(*bvh_, ray) : tree_.intersect(ray);
 }
 bool StreamTracer::occluded(const Ray& ray) const {
-    return bvh_ ? bvh::wide_bvh_kernels(detail::Access::impl(tree_).kernels->isa).occluded(*bvh_, ray).hit()
-                : tree_.occluded(ray);
+    return bvh_ ? bvh_kernels_->occluded(*bvh_, ray).hit() : tree_.occluded(ray);
 }
 
 void StreamTracer::intersect(std::span<const Ray> rays, std::span<Hit> hits, const QueryOptions& options) const {
     check_query("StreamTracer::intersect", rays.size(), hits.size(), options);
-    trace_stream<false>(tree_, settings_, bvh_.get(), rays, hits.data(), options);
+    trace_stream<false>(tree_, settings_, WideBvhUse{bvh_.get(), bvh_kernels_}, rays, hits.data(), options);
 }
 
 void StreamTracer::occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded,
                             const QueryOptions& options) const {
     check_query("StreamTracer::occluded", rays.size(), occluded.size(), options);
-    trace_stream<true>(tree_, settings_, bvh_.get(), rays, occluded.data(), options);
+    trace_stream<true>(tree_, settings_, WideBvhUse{bvh_.get(), bvh_kernels_}, rays, occluded.data(), options);
 }
 
 void StreamTracer::intersect(std::span<const Packet16> packets, std::span<PacketHits16> hits,

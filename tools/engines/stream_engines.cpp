@@ -1,7 +1,7 @@
 // stream (the library's StreamTracer: arbitrary rays hashed, sorted and grouped, then traced by the
-// kd-tree, rays in no group by a wide BVH) and embree-sorted (Embree's single-ray calls fed the stream tracer's sorted order, the
-// sort untimed: what sorting alone gives Embree, so that the gain of sorting and the gain of the
-// stream tracer's kernels are told apart; not an anchor).
+// kd-tree, rays in no group by a wide BVH) and embree-sorted (Embree's single-ray calls fed the
+// stream tracer's sorted order, the sort untimed: what sorting alone gives Embree, so that the gain
+// of sorting and the gain of the stream tracer's kernels are told apart; not an anchor).
 #include <chrono>
 
 #include "beamtrace/error.hpp"
