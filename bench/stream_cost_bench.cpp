@@ -416,7 +416,8 @@ void register_benchmarks() {
         reg("diffuse_bvh_hot", [name, leaf](benchmark::State& s) {
             DiffuseCase& c = diffuse_case(name);
             if (!c.error.empty()) return s.SkipWithError(c.error.c_str());
-            const std::vector<Ray> few(c.by_origin.begin(), c.by_origin.begin() + 1024);
+            const std::size_t n = std::min<std::size_t>(1024, c.by_origin.size());
+            const std::vector<Ray> few(c.by_origin.begin(), c.by_origin.begin() + std::ptrdiff_t(n));
             bvh_rays(s, *c.tree, few, false, leaf);
         });
         for (int other : {4, 8, 16})
