@@ -19,7 +19,7 @@ namespace {
 
 // The scatter's digit: up to 16 bits (65,536 buckets; room's 16.8 million AO rays, whose keys crowd
 // where the surfaces are, fill 4,585 of them), fewer for smaller streams (about 256 rays a bucket).
-constexpr int kMaxTopBits = 16;
+constexpr int kMaxTopBits = 14;
 int top_bits(std::size_t n) { return std::clamp(int(std::bit_width(n)) - 8, 1, kMaxTopBits); }
 constexpr std::size_t kSmallBucket = 48;  // sorted by std::sort
 
@@ -95,6 +95,39 @@ private:
     bool streaming_;
 };
 
+// The rays [begin, end) scattered into records[t[digit]++], by way of one RecordLine per bucket:
+// position k of a bucket goes to slot k % 8 of its line, and a line whose eight positions this part
+// wrote goes out by streaming stores to records[k - 7 .. k] (line-aligned: records is). Positions
+// of lines this part shares with its neighbours (at the ends of its range of a bucket) are copied
+// by plain stores.
+template <class Word>
+void scatter_combined(std::span<const Ray> rays, const Word& word, const SortWords& layout, int shift,
+                      std::size_t buckets, std::size_t begin, std::size_t end, std::vector<std::size_t>& t,
+                      RecordLine* lines, SortRecord* records) {
+    const std::vector<std::size_t> first = t;  // this part's first position in each bucket
+    const auto copy = [&](std::size_t d, std::size_t from, std::size_t to) {  // plain stores of [from, to)
+        for (std::size_t k = from; k < to; ++k) records[k] = lines[d].records[k & 7];
+    };
+    for (std::size_t i = begin; i < end; ++i) {
+        const std::uint64_t w = word(i);
+        const std::size_t d = (layout.value(w) >> shift) & (buckets - 1);
+        const std::size_t k = t[d]++;
+        SortRecord& r = lines[d].records[k & 7];
+        r.ray = rays[i];
+        r.word = w;
+        if ((k & 7) != 7) continue;
+        if (k - 7 >= first[d]) {
+            const auto* from = reinterpret_cast<const __m128i*>(&lines[d]);
+            auto* to = reinterpret_cast<__m128i*>(records + (k - 7));
+            for (int q = 0; q < int(sizeof(RecordLine) / 16); ++q) _mm_stream_si128(to + q, _mm_load_si128(from + q));
+        } else {
+            copy(d, first[d], k + 1);
+        }
+    }
+    for (std::size_t d = 0; d < buckets; ++d)
+        if (t[d] & 7) copy(d, std::max(first[d], t[d] & ~std::size_t{7}), t[d]);
+}
+
 }  // namespace
 
 void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
@@ -157,16 +190,30 @@ void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, s
     at[buckets] = sum;
     auto& records = buffers.records;
     records.resize(n);
+    // Large streams: records staged eight at a time per bucket (RecordLine), written by streaming
+    // stores (the records are far beyond the caches; a plain store reads each line first).
+    const bool combine = n >= kStreamingRays && reinterpret_cast<std::uintptr_t>(records.data()) % 64 == 0;
+    if (combine) {
+        buffers.staging.resize(std::size_t(parts));
+        for (auto& s : buffers.staging)
+            if (s.size() < buckets) s.resize(buckets);
+    }
     for_parts([&](int p) {
         auto& t = to[std::size_t(p)];
         const auto [begin, end] = range(p);
-        for (std::size_t i = begin; i < end; ++i) {
-            const std::uint64_t w = word(i);
-            SortRecord& r = records[t[(layout.value(w) >> shift) & (buckets - 1)]++];
-            r.ray = rays[i];
-            r.word = w;
+        if (!combine) {
+            for (std::size_t i = begin; i < end; ++i) {
+                const std::uint64_t w = word(i);
+                SortRecord& r = records[t[(layout.value(w) >> shift) & (buckets - 1)]++];
+                r.ray = rays[i];
+                r.word = w;
+            }
+            return;
         }
+        scatter_combined(rays, word, layout, shift, buckets, begin, end, t, buffers.staging[std::size_t(p)].data(),
+                         records.data());
     });
+    if (combine) _mm_sfence();
     const bool streaming = n >= kStreamingRays && reinterpret_cast<std::uintptr_t>(sorted_rays.data()) % 16 == 0;
     const BucketSort sort_bucket(layout, shift, records.data(), order, sorted_keys, sorted_rays, streaming);
     static thread_local BucketWords words;

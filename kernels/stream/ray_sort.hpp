@@ -24,9 +24,19 @@ struct SortRecord {
 };
 static_assert(sizeof(SortRecord) == 40);
 
-// The records, kept by the caller across calls (no fresh pages per call).
+// Eight records: five whole cache lines. The scatter of a large stream collects each bucket's next
+// eight records in one of these (in cache) and writes them out with streaming stores once all eight
+// are there, so that no line of the records is read before it is overwritten.
+struct alignas(64) RecordLine {
+    SortRecord records[8];
+};
+static_assert(sizeof(RecordLine) == 5 * 64);
+
+// The records and the scatter's per-part staging lines, kept by the caller across calls (no fresh
+// pages per call).
 struct RaySortBuffers {
     std::vector<SortRecord, HugePageAllocator<SortRecord>> records;
+    std::vector<std::vector<RecordLine, HugePageAllocator<RecordLine>>> staging;  // per part: one per bucket
 };
 
 // order, sorted_keys and sorted_rays as sort_by_key(keys, hashes, order, sorted_keys) and
