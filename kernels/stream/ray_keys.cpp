@@ -17,7 +17,7 @@ namespace {
 
 std::uint32_t quantise(float x, int cells) {
     const float q = x * float(cells);
-    if (!(q > 0.0f)) return 0;  // NaN too
+    if (!(q > 0.0f)) return 0;                                                  // NaN too
     return q < float(cells - 1) ? std::uint32_t(q) : std::uint32_t(cells - 1);  // never converts a huge float
 }
 
@@ -83,7 +83,10 @@ SharedPoints find_shared_points(std::span<const Ray> rays, const Box& scene_box,
     const int needed = std::max(2, int(std::ceil(double(fraction) * double(samples))));
     std::vector<std::pair<int, SharedPoint>> found;
     for (const auto& [o, count] : origins)
-        if (count >= needed) found.push_back({count, SharedPoint{{std::get<0>(o), std::get<1>(o), std::get<2>(o)}, false}});
+        if (count < needed) shared.repeated_origins += std::size_t(count - 1);
+    for (const auto& [o, count] : origins)
+        if (count >= needed)
+            found.push_back({count, SharedPoint{{std::get<0>(o), std::get<1>(o), std::get<2>(o)}, false}});
     for (const auto& [key, c] : ends)
         if (c.count >= needed) found.push_back({c.count, SharedPoint{c.sum * (1.0f / float(c.count)), true}});
     std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });

@@ -33,9 +33,14 @@ struct SharedPoint {
 // The shared points of a stream, found from a sample of its rays: points through which at least
 // `fraction` of the sampled rays pass (at most `max_points`). `radius` of end points: 1e-3 of the
 // scene box's diagonal.
+// `repeated_origins`: sampled rays whose exact origin another sampled ray has, not counting origins
+// frequent enough to be shared points. More than none says the stream's origins come in bunches
+// spread over the stream (ambient-occlusion rays handed over shuffled, or pass by pass), which the
+// sort's origin hashes put back together; diffuse bounces (one ray an origin) have none.
 struct SharedPoints {
     std::vector<SharedPoint> points;
     float radius = 0.0f;
+    std::size_t repeated_origins = 0;
 };
 SharedPoints find_shared_points(std::span<const Ray> rays, const Box& scene_box, int sample_rays, float fraction,
                                 int max_points);

@@ -65,7 +65,8 @@ public:
         if (top > 0 && m <= kSmallBucket) {
             std::sort(w, w + m);
         } else if (top > 0) {  // by the value bits above the positions (the library's radix sort: stable)
-            radix_sort(words.a, words.b, top, [pos_bits](std::uint64_t x) { return x >> pos_bits; }, 1);
+            radix_sort(
+                words.a, words.b, top, [pos_bits](std::uint64_t x) { return x >> pos_bits; }, 1);
             w = words.a.data();
         }
         write(w, begin, m, (std::uint64_t{1} << pos_bits) - 1);
@@ -136,8 +137,10 @@ void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, s
     const std::size_t n = rays.size();
     if (keys.size() != n || order.size() != n || sorted_keys.size() != n || sorted_rays.size() != n ||
         (!hashes.empty() && hashes.size() != n))
-        throw Error("sort_rays: keys, hashes (when given), order, sorted keys and sorted rays must hold one entry per "
-                    "ray (" + std::to_string(n) + ")");
+        throw Error(
+            "sort_rays: keys, hashes (when given), order, sorted keys and sorted rays must hold one entry per "
+            "ray (" +
+            std::to_string(n) + ")");
     if (n > std::size_t(0xFFFFFFFFu)) throw Error("sort_rays: at most 4294967295 rays, not " + std::to_string(n));
     if (n == 0) return;
     const SortWords layout(keys, hashes);

@@ -93,19 +93,22 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
                                                              StreamSettings::kMaxSharedPoints);
     if (!occlusion) std::erase_if(shared.points, [](const stream::SharedPoint& p) { return p.ends; });
     out.keys.resize(rays.size());
-    out.hashes.resize(rays.size());
     out.order.resize(rays.size());
     out.sorted_keys.resize(rays.size());
     out.rays.resize(rays.size());
     // Keys, then the origins' hashes of the rays keyed by cell, a chunk at a time (its rays still in
-    // cache).
+    // cache). Hashes only where the sample saw an origin twice: else a cell's rays would gain
+    // nothing from them (one ray an origin, or each origin's rays already next to each other).
+    const bool hashed = shared.repeated_origins > 0;
+    out.hashes.resize(hashed ? rays.size() : 0);
     constexpr std::size_t kChunk = 4096;
     run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
         for (std::size_t c = b; c < e; c += kChunk) {
             const std::size_t ce = std::min(e, c + kChunk);
             stream::make_keys(rays.subspan(c, ce - c), bounds, shared, std::span(out.keys).subspan(c, ce - c), isa);
-            for (std::size_t i = c; i < ce; ++i)
-                out.hashes[i] = (out.keys[i] & stream::kPencilBit) ? 0 : stream::origin_hash(rays[i]);
+            if (hashed)
+                for (std::size_t i = c; i < ce; ++i)
+                    out.hashes[i] = (out.keys[i] & stream::kPencilBit) ? 0 : stream::origin_hash(rays[i]);
         }
     });
     // Sorted and gathered in one (stream/ray_sort.hpp: the rays move with their sort words).

@@ -2,6 +2,7 @@
 // found (a camera's origin, a light the rays end at) and only they.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -105,6 +106,28 @@ TEST(StreamKeys, FindsTheCameraAndTheLightsAndNothingElse) {
     }
 }
 
+TEST(StreamKeys, TheSampleCountsOriginsSeenTwiceButNotSharedPoints) {
+    // Ambient-occlusion-like rays: 16 from each of 4,000 points, shuffled; diffuse-like: one a point;
+    // camera rays: one origin (a shared point, not a repeat).
+    const Box b = unit_box();
+    std::mt19937 random(5);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<Float3> points(4000);
+    for (Float3& p : points) p = Float3{u(random), u(random), u(random)};
+    std::vector<Ray> ao, diffuse, camera;
+    for (const Float3& p : points) {
+        for (int k = 0; k < 16; ++k) ao.push_back(Ray{p, 0.0f, Float3{u(random) - 0.5f, u(random), 0.25f}, 0.2f});
+        diffuse.push_back(Ray{p, 0.0f, Float3{u(random) - 0.5f, u(random), 0.25f}, kInfinity});
+        camera.push_back(Ray{Float3{0.5f, 0.5f, -1.0f}, 0.0f, p - Float3{0.5f, 0.5f, -1.0f}, kInfinity});
+    }
+    std::shuffle(ao.begin(), ao.end(), random);
+    EXPECT_GT(find_shared_points(ao, b, 4096, 0.01f, 16).repeated_origins, 100u);
+    EXPECT_EQ(find_shared_points(diffuse, b, 4096, 0.01f, 16).repeated_origins, 0u);
+    const SharedPoints at_camera = find_shared_points(camera, b, 4096, 0.01f, 16);
+    EXPECT_EQ(at_camera.points.size(), 1u);
+    EXPECT_EQ(at_camera.repeated_origins, 0u);
+}
+
 TEST(StreamKeys, RaysThatDescribeNoSegmentGetTheirOwnKey) {
     const Box b = unit_box();
     const std::vector<Ray> rays = {Ray{{0, 0, 0}, 0.0f, {0, 0, 0}, 1.0f}, Ray{{NAN, 0, 0}, 0.0f, {1, 0, 0}, 1.0f},
@@ -134,7 +157,9 @@ TEST(StreamKeys, EveryInstructionSetGivesTheReferenceKeysBitForBit) {
     for (int i = 0; i < 4099; ++i) {
         Ray r{{unit(random), unit(random), unit(random)}, 0.0f, {dir(random), dir(random), dir(random)}, 1.0f};
         switch (kind(random)) {
-            case 0: r.org = shared.points[0].at; break;
+            case 0:
+                r.org = shared.points[0].at;
+                break;
             case 1:
             case 2: {  // ends at (or within a hair of) an end point
                 const Float3 at = shared.points[1 + i % 2].at;
@@ -143,15 +168,32 @@ TEST(StreamKeys, EveryInstructionSetGivesTheReferenceKeysBitForBit) {
                 r.tfar = 1.0f;
                 break;
             }
-            case 3: r.tfar = kInfinity; break;
-            case 4: r.dir.z = -std::fabs(r.dir.z); break;
-            case 5: r.dir = Float3{-0.0f, 0.0f, -1.0f}; break;
-            case 6: r.org.x = NAN; break;
-            case 7: r.dir = Float3{0, 0, 0}; break;
-            case 8: r.tnear = 2.0f; break;
-            case 9: r.dir.y = kInfinity; break;
-            case 10: r.org = Float3{-5.0f, 40.0f, 0.5f}; break;
-            default: break;
+            case 3:
+                r.tfar = kInfinity;
+                break;
+            case 4:
+                r.dir.z = -std::fabs(r.dir.z);
+                break;
+            case 5:
+                r.dir = Float3{-0.0f, 0.0f, -1.0f};
+                break;
+            case 6:
+                r.org.x = NAN;
+                break;
+            case 7:
+                r.dir = Float3{0, 0, 0};
+                break;
+            case 8:
+                r.tnear = 2.0f;
+                break;
+            case 9:
+                r.dir.y = kInfinity;
+                break;
+            case 10:
+                r.org = Float3{-5.0f, 40.0f, 0.5f};
+                break;
+            default:
+                break;
         }
         rays.push_back(r);
     }
