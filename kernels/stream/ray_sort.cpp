@@ -155,15 +155,28 @@ void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, s
     };
     // The bits the words' values vary in; the top digit is the highest top_bits(n) of them.
     std::vector<std::array<std::uint64_t, 2>> seen(static_cast<std::size_t>(parts));  // (any, all) per part
+    // A word's value is (key << hash_bits) | hash bits: the keys' and the hash bits' any and all,
+    // each a plain pass over 32-bit words, give the values'.
     for_parts([&](int p) {
-        std::uint64_t any = 0, all = ~std::uint64_t{0};
         const auto [begin, end] = range(p);
+        std::uint32_t any_key = 0, all_key = ~0u, any_hash = 0, all_hash = ~0u;
         for (std::size_t i = begin; i < end; ++i) {
-            const std::uint64_t v = layout.value(word(i));
-            any |= v;
-            all &= v;
+            any_key |= keys[i];
+            all_key &= keys[i];
         }
-        seen[std::size_t(p)] = {any, all};
+        if (layout.hash_bits) {
+            const int drop = 32 - layout.hash_bits;
+            for (std::size_t i = begin; i < end; ++i) {
+                const std::uint32_t h = (keys[i] & kPencilBit) ? 0u : hashes[i] >> drop;
+                any_hash |= h;
+                all_hash &= h;
+            }
+        } else {
+            all_hash = 0;
+        }
+        const int hb = layout.hash_bits;
+        seen[std::size_t(p)] = {(std::uint64_t(any_key) << hb) | any_hash,
+                                (std::uint64_t(all_key) << hb) | (all_hash & ((std::uint64_t{1} << hb) - 1))};
     });
     std::uint64_t any = 0, all = ~std::uint64_t{0};
     for (const auto& s : seen) any |= s[0], all &= s[1];
