@@ -55,6 +55,7 @@ struct QueryCounters {
         std::uint64_t group_steps = 0;        // inner nodes visited by origin groups
         std::uint64_t group_leaves = 0;       // leaves tested 16 rays at a time by origin groups (fewer lanes: leaves)
         std::uint64_t group_unreached_planes = 0;  // inner nodes passed without a step: no lane's segment reaches the plane
+        std::uint64_t bucket_ordered_rays = 0;  // rays of calls ordered by the bucket pass alone (StreamSettings::bucket_loose_streams)
         std::uint64_t sort_nanoseconds = 0;   // keys, sort, grouping and the answers' scatter, summed over calls
     } stream;
 
@@ -118,6 +119,7 @@ struct QueryCounters {
         stream.group_steps += o.stream.group_steps;
         stream.group_leaves += o.stream.group_leaves;
         stream.group_unreached_planes += o.stream.group_unreached_planes;
+        stream.bucket_ordered_rays += o.stream.bucket_ordered_rays;
         stream.sort_nanoseconds += o.stream.sort_nanoseconds;
         crsh.rays += o.crsh.rays;
         for (int l = 0; l < Crsh::kMaxLevels; ++l) {

@@ -54,6 +54,11 @@ struct StreamSettings {
     // traversal (beyond the papers; docs/streams.md "Single rays through a wide BVH"). Loose rays then
     // go one by one (group_loose_rays is for the kd-tree's traversal). The same answers.
     bool wide_bvh = true;
+    // With the wide BVH: a stream whose sample shows no shared point and no origin twice (every ray
+    // loose: diffuse bounces) is ordered by one scatter pass only, by the top digit of its keys
+    // (the rays' origin cells, up to 14 bits), instead of the whole sort (beyond the papers;
+    // docs/streams.md "Diffuse bounces in buckets"). false: the whole sort. The same answers.
+    bool bucket_loose_streams = true;
 
     static constexpr int kMaxSharedPoints = 16;
 

@@ -73,6 +73,16 @@ public:
         words.trim();
     }
 
+    // The records [begin, end) as they are: rays, indices, keys.
+    void copy(std::size_t begin, std::size_t end) const {
+        for (std::size_t k = begin; k < end; ++k) {
+            const SortRecord& r = records_[k];
+            order_[k] = layout_.index(r.word);
+            sorted_keys_[k] = SortWords::key(r.word);
+            store_ray(sorted_rays_.data() + k, r.ray, streaming_);
+        }
+    }
+
 private:
     // The bucket's records in the words' order: rays, indices, keys.
     void write(const std::uint64_t* w, std::size_t begin, std::size_t m, std::uint64_t pos_mask) const {
@@ -129,11 +139,10 @@ void scatter_combined(std::span<const Ray> rays, const Word& word, const SortWor
         if (t[d] & 7) copy(d, std::max(first[d], t[d] & ~std::size_t{7}), t[d]);
 }
 
-}  // namespace
-
-void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
-               std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays,
-               int parts, RaySortBuffers& buffers) {
+// sort_rays (sort_buckets) or bucket_rays.
+void order_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
+                std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays,
+                int parts, RaySortBuffers& buffers, bool sort_buckets) {
     const std::size_t n = rays.size();
     if (keys.size() != n || order.size() != n || sorted_keys.size() != n || sorted_rays.size() != n ||
         (!hashes.empty() && hashes.size() != n))
@@ -232,6 +241,14 @@ void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, s
     if (combine) _mm_sfence();
     const bool streaming = n >= kStreamingRays && reinterpret_cast<std::uintptr_t>(sorted_rays.data()) % 16 == 0;
     const BucketSort sort_bucket(layout, shift, records.data(), order, sorted_keys, sorted_rays, streaming);
+    if (!sort_buckets) {
+        for_parts([&](int p) {
+            const auto [begin, end] = range(p);
+            sort_bucket.copy(begin, end);
+        });
+        if (streaming) _mm_sfence();
+        return;
+    }
     static thread_local BucketWords words;
     const auto bucket = [&](std::size_t d) {
         if (at[d + 1] > at[d]) sort_bucket(at[d], at[d + 1], words);
@@ -241,6 +258,19 @@ void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, s
     else
         tbb::parallel_for(std::size_t{0}, buckets, bucket);
     if (streaming) _mm_sfence();
+}
+
+}  // namespace
+
+void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
+               std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays,
+               int parts, RaySortBuffers& buffers) {
+    order_rays(rays, keys, hashes, order, sorted_keys, sorted_rays, parts, buffers, true);
+}
+
+void bucket_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
+                 std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays, int parts, RaySortBuffers& buffers) {
+    order_rays(rays, keys, {}, order, sorted_keys, sorted_rays, parts, buffers, false);
 }
 
 }  // namespace beamtrace::stream

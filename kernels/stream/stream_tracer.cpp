@@ -84,9 +84,12 @@ void in_arena(int threads, F&& f) {
     arena.execute(f);
 }
 
-// Keys, sort, gather and groups of a call's rays into `out` (the calling thread's buffers).
-void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray> rays, bool occlusion,
-                 const QueryOptions& options, Isa isa, SortedStream& out) {
+// Keys, sort, gather and groups of a call's rays into `out` (the calling thread's buffers). With
+// `buckets_suffice` (rays traced alone go through the wide BVH) a stream whose sample shows no shared
+// point and no origin twice is ordered by the bucket pass alone, every ray a single; returns whether
+// it was.
+bool sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray> rays, bool occlusion,
+                 bool buckets_suffice, const QueryOptions& options, Isa isa, SortedStream& out) {
     if (rays.size() > std::size_t(0xFFFFFFFFu))
         throw Error("StreamTracer: at most 4294967295 rays per call, not " + std::to_string(rays.size()));
     stream::SharedPoints shared = stream::find_shared_points(rays, bounds, s.sample_rays, s.shared_point_fraction,
@@ -111,6 +114,19 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
                     out.hashes[i] = (out.keys[i] & stream::kPencilBit) ? 0 : stream::origin_hash(rays[i]);
         }
     });
+    if (buckets_suffice && s.bucket_loose_streams && shared.points.empty() && !hashed) {
+        in_arena(options.threads, [&] {
+            stream::bucket_rays(rays, out.keys, out.order, out.sorted_keys, out.rays, options.threads, out.sort_buffers);
+        });
+        // Singles (through the wide BVH, which answers rays that describe no segment as the
+        // no-segment groups do), in runs of at most kMaxCellGroup: work for one task at a time.
+        out.groups.clear();
+        for (std::size_t b = 0; b < rays.size(); b += stream::kMaxCellGroup)
+            out.groups.push_back(stream::RayGroup{
+                std::uint32_t(b), std::uint32_t(std::min<std::size_t>(stream::kMaxCellGroup, rays.size() - b)),
+                stream::RayGroup::Kind::single});
+        return true;
+    }
     // Sorted and gathered in one (stream/ray_sort.hpp: the rays move with their sort words).
     in_arena(options.threads, [&] {
         stream::sort_rays(rays, out.keys, out.hashes, out.order, out.sorted_keys, out.rays, options.threads,
@@ -118,6 +134,7 @@ void sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
     });
     in_arena(options.threads,
              [&] { stream::cut_groups(out.sorted_keys, s.min_group_rays, out.groups, options.threads); });
+    return false;
 }
 
 // The rays of a group as a packet (lanes 0 .. count; the others the ray (0, 0, 0) + t (0, 0, 1),
@@ -481,7 +498,8 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, WideBvhUse wide_b
             if (on) kept_in_use = false;
         }
     } release{use_kept};
-    sort_stream(kd.scene.bounds(), s, rays, kOcclusion, options, kd.kernels->isa, sorted);
+    const bool bucketed =
+        sort_stream(kd.scene.bounds(), s, rays, kOcclusion, wide_bvh.bvh != nullptr, options, kd.kernels->isa, sorted);
     const auto sorted_at = std::chrono::steady_clock::now();
     Out* by_position;
     if constexpr (kOcclusion) {
@@ -505,6 +523,7 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, WideBvhUse wide_b
     });
     if (options.counters) {
         options.counters->stream.rays += rays.size();
+        if (bucketed) options.counters->stream.bucket_ordered_rays += rays.size();
         options.counters->stream.sort_nanoseconds +=
             std::uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(sorted_at - start).count());
     }
@@ -549,7 +568,7 @@ void stream_order(std::span<const Ray> rays, const Box& scene_bounds, bool close
         return;
     }
     SortedStream sorted;
-    sort_stream(scene_bounds, settings, rays, !closest_hit, options, best_isa(), sorted);
+    sort_stream(scene_bounds, settings, rays, !closest_hit, settings.wide_bvh, options, best_isa(), sorted);
     std::copy(sorted.order.begin(), sorted.order.end(), order.begin());
 }
 

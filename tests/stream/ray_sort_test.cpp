@@ -4,6 +4,8 @@
 // origin hashes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -77,6 +79,42 @@ TEST(StreamRaySort, EveryRayOfOneKeyAndTheOnlyKey) {
     const std::vector<Ray> rays = some_rays(200000, random, 1);
     expect_as_sort_then_gather(std::vector<std::uint32_t>(rays.size(), 77u), rays, true, 1);
     expect_as_sort_then_gather(std::vector<std::uint32_t>(rays.size(), 77u), rays, true, 2);
+}
+
+TEST(StreamRaySort, TheBucketPassOrdersByTheKeysTopDigitAndKeepsTheInputOrderWithinIt) {
+    // Above and below the size of the staging lines' streaming stores, on one part and two.
+    std::mt19937 random(23);
+    for (std::size_t n : {std::size_t{1}, std::size_t{1000}, std::size_t{300000}, (std::size_t{1} << 20) + 3}) {
+        const std::vector<Ray> rays = some_rays(n, random, 5000);
+        std::vector<std::uint32_t> keys(n);
+        for (auto& k : keys) k = random() >> 2;
+        std::uint32_t any = 0, all = ~0u;
+        for (const std::uint32_t k : keys) any |= k, all &= k;
+        const int top = std::bit_width(any ^ all);
+        const int digit = std::clamp(int(std::bit_width(n)) - 8, 1, 14);
+        const int shift = std::max(0, top - digit);
+        for (int parts : {1, 2}) {
+            std::vector<std::uint32_t> order(n), sorted(n);
+            std::vector<Ray> out(n);
+            RaySortBuffers buffers;
+            tbb::task_arena arena(parts);
+            arena.execute([&] { bucket_rays(rays, keys, order, sorted, out, parts, buffers); });
+            std::vector<bool> seen(n, false);
+            for (std::size_t k = 0; k < n; ++k) {
+                ASSERT_LT(order[k], n);
+                ASSERT_FALSE(seen[order[k]]) << "ray " << order[k] << " twice";
+                seen[order[k]] = true;
+                ASSERT_EQ(sorted[k], keys[order[k]]);
+                ASSERT_EQ(std::memcmp(&out[k], &rays[order[k]], sizeof(Ray)), 0);
+                if (k == 0) continue;
+                const std::uint32_t d0 = sorted[k - 1] >> shift, d1 = sorted[k] >> shift;
+                ASSERT_LE(d0, d1) << "position " << k << " of " << n;
+                if (d0 == d1) {
+                    ASSERT_LT(order[k - 1], order[k]) << "position " << k << " of " << n;
+                }
+            }
+        }
+    }
 }
 
 TEST(StreamRaySort, RefusesSpansOfOtherSizes) {

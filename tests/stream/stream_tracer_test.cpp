@@ -207,11 +207,25 @@ TEST_P(StreamTracerScenes, DiffuseBouncesGoInLooseGroupsOrTheWideBvhAndAnswerAsT
     EXPECT_EQ(counters.stream.loose_group_rays, 2 * rays.size());
     EXPECT_EQ(counters.stream.single_rays, 0u);
     EXPECT_GE(double(counters.stream.loose_group_rays) / double(counters.stream.loose_groups), 15.0);
-    // With the wide BVH (the default) every one of them goes through it alone.
+    // With the wide BVH (the default) every one of them goes through it alone, in the bucket pass's
+    // order (no shared point, no origin twice).
     const QueryCounters by_bvh = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), rays, "wide BVH");
     EXPECT_EQ(by_bvh.stream.single_rays, 2 * rays.size());
     EXPECT_EQ(by_bvh.rays, 2 * rays.size());
     EXPECT_EQ(by_bvh.stream.loose_groups, 0u);
+    EXPECT_EQ(by_bvh.stream.bucket_ordered_rays, 2 * rays.size());
+    // The whole sort instead: the same answers.
+    StreamSettings sorted;
+    sorted.bucket_loose_streams = false;
+    const QueryCounters whole = expect_the_kd_trees_answers(s, tree, StreamTracer(tree, sorted), rays, "whole sort");
+    EXPECT_EQ(whole.stream.bucket_ordered_rays, 0u);
+    EXPECT_EQ(whole.stream.single_rays, 2 * rays.size());
+    // A stream with a shared point or origins met twice is sorted whole.
+    std::vector<Ray> twice = rays;
+    for (int i = 0; i < 20000; ++i) twice.push_back(Ray{rays[std::size_t(i)].org, 0.0f, Float3{0.25f, 0.5f, -0.5f}, kInfinity});
+    std::shuffle(twice.begin(), twice.end(), random);
+    const QueryCounters mixed = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), twice, "origins twice");
+    EXPECT_EQ(mixed.stream.bucket_ordered_rays, 0u);
 }
 
 TEST_P(StreamTracerScenes, AnswersDoNotDependOnTheInputOrder) {

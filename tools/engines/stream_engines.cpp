@@ -56,6 +56,7 @@ public:
             {"groups", groups},
             {"mean_rays_per_group", groups ? double(s.origin_group_rays + s.pencil_rays + s.loose_group_rays) / double(groups) : 0.0},
             {"single_rays", s.single_rays},
+            {"bucket_ordered_rays", s.bucket_ordered_rays},
             {"origin_groups", s.origin_groups},
             {"origin_group_rays", s.origin_group_rays},
             {"loose_groups", s.loose_groups},
@@ -77,6 +78,7 @@ public:
             {"min_group_rays", tracer_->settings().min_group_rays},
             {"group_loose_rays", tracer_->settings().group_loose_rays},
             {"wide_bvh", tracer_->settings().wide_bvh},
+            {"bucket_loose_streams", tracer_->settings().bucket_loose_streams},
             {"wide_bvh_bytes", tracer_->wide_bvh_bytes()},
             {"wide_bvh_build_seconds", tracer_->wide_bvh_build_seconds()}};
         j.update(tree_json(tree_->stats()));
