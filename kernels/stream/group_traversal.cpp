@@ -6,7 +6,8 @@
 #include "common/triangle_kernels.hpp"
 
 template <>
-const beamtrace::stream::GroupKernels& beamtrace::simd::table<beamtrace::stream::GroupKernels, beamtrace::Isa::scalar>() {
+const beamtrace::stream::GroupKernels&
+beamtrace::simd::table<beamtrace::stream::GroupKernels, beamtrace::Isa::scalar>() {
     return table<stream::GroupKernels, Isa::sse42>();
 }
 

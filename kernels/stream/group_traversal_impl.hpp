@@ -53,9 +53,9 @@ struct GroupRays {
 // kOneOrigin: every lane starts at lane `lead`'s origin, which does not lie in the plane (the
 // distance to the plane and the side are then the same for all lanes: computed once).
 template <class Arch, bool kOneOrigin>
-[[gnu::always_inline]] inline std::uint32_t split_lanes(const GroupRays& g, Intervals& t, std::uint32_t lanes,
-                                                       int axis, float split_at, bool lower_first, Intervals& far,
-                                                       std::uint32_t& far_lanes) {
+[[gnu::always_inline]] inline std::uint32_t split_lanes(const GroupRays& g, Intervals& t, std::uint32_t lanes, int axis,
+                                                        float split_at, bool lower_first, Intervals& far,
+                                                        std::uint32_t& far_lanes) {
     using B = xsimd::batch<float, Arch>;
     using M = xsimd::batch_bool<float, Arch>;
     constexpr int W = int(B::size);
@@ -94,9 +94,12 @@ template <class Arch, bool kOneOrigin>
         const M lower = (first_lower & visits_first) | (second_lower & visits_second);
         const M upper = (first_lower & visits_second) | (second_lower & visits_first);
         const M on = simd::lanes_on<Arch>(lanes >> base);
-        const B lo_min = xsimd::select(both & second_lower, tp, tmin), lo_max = xsimd::select(both & first_lower, tp, tmax);
-        const B up_min = xsimd::select(both & first_lower, tp, tmin), up_max = xsimd::select(both & second_lower, tp, tmax);
-        const std::uint32_t lower_bits = simd::lane_bits<Arch>(lower & on), upper_bits = simd::lane_bits<Arch>(upper & on);
+        const B lo_min = xsimd::select(both & second_lower, tp, tmin),
+                lo_max = xsimd::select(both & first_lower, tp, tmax);
+        const B up_min = xsimd::select(both & first_lower, tp, tmin),
+                up_max = xsimd::select(both & second_lower, tp, tmax);
+        const std::uint32_t lower_bits = simd::lane_bits<Arch>(lower & on),
+                            upper_bits = simd::lane_bits<Arch>(upper & on);
         near_lanes |= (lower_first ? lower_bits : upper_bits) << base;
         far_lanes |= (lower_first ? upper_bits : lower_bits) << base;
         xsimd::select(near_is_lower, lo_min, up_min).store_aligned(t.tmin + base);
@@ -285,8 +288,7 @@ private:
                         index = lower_first ? index + 1 : node.upper_child();
                         if (lanes != 0) continue;
                     }
-                }
-                else {
+                } else {
                     visit_leaf(index, lanes, t);
                     if constexpr (kOcclusion)
                         if (done_ == valid_) return;
@@ -352,7 +354,7 @@ private:
             }
         } else {
             const Hit h = kdtree::traverse_subtree<false, kCount>(kd_, ray, inv, w, node, t.tmin[i], t.tmax[i],
-                                                                   hits_->hit(i), rows_.at, rows_.stride, counters_);
+                                                                  hits_->hit(i), rows_.at, rows_.stride, counters_);
             if (h.t < best_[i]) record(i, h.t, h.triangle, h.u, h.v);
         }
     }
@@ -402,7 +404,7 @@ private:
     alignas(64) float best_[16] = {};  // a lane's closest hit so far: +inf before its first (a hit at t = tfar counts)
     std::uint32_t done_ = 0;
     std::uint32_t valid_ = 0;
-    bool one_origin_ = false;  // every valid lane starts at one point (bit for bit)
+    bool one_origin_ = false;                                // every valid lane starts at one point (bit for bit)
     float reach_lo_[3] = {-INFINITY, -INFINITY, -INFINITY};  // make_reach
     float reach_hi_[3] = {INFINITY, INFINITY, INFINITY};
     WatertightRay wrays_[16];

@@ -67,7 +67,8 @@ void cut_groups(std::span<const std::uint32_t> keys, int min_group_rays, std::ve
     std::vector<std::uint32_t> bounds(std::size_t(parts) + 1, n);
     bounds[0] = 0;
     for (int p = 1; p < parts; ++p) {
-        std::uint32_t b = std::max(bounds[std::size_t(p - 1)], std::uint32_t(std::uint64_t(n) * std::uint64_t(p) / std::uint64_t(parts)));
+        std::uint32_t b = std::max(bounds[std::size_t(p - 1)],
+                                   std::uint32_t(std::uint64_t(n) * std::uint64_t(p) / std::uint64_t(parts)));
         while (b > 0 && b < n && keys[b] == keys[b - 1]) ++b;
         bounds[std::size_t(p)] = b;
     }

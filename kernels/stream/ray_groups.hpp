@@ -29,7 +29,6 @@ inline constexpr std::uint32_t kMaxCellGroup = 1024;
 // min_group_rays rays; runs of one origin cell (one key) of at least min_group_rays rays become cell
 // groups (of at most kMaxCellGroup); everything else becomes runs of single rays. On `parts` threads
 // of the caller's TBB arena (parts start at changes of key).
-void cut_groups(std::span<const std::uint32_t> keys, int min_group_rays, std::vector<RayGroup>& groups,
-                int parts = 1);
+void cut_groups(std::span<const std::uint32_t> keys, int min_group_rays, std::vector<RayGroup>& groups, int parts = 1);
 
 }  // namespace beamtrace::stream

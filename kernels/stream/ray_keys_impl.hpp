@@ -81,7 +81,8 @@ struct KeyLanes {
                 }
                 const auto pencil = valid & !cells;
                 if (xsimd::any(pencil)) {
-                    const BI pencil_key = BI(std::int32_t(kPencilBit)) | (point << kPointShift) | octahedral(dx, dy, dz);
+                    const BI pencil_key =
+                        BI(std::int32_t(kPencilBit)) | (point << kPointShift) | octahedral(dx, dy, dz);
                     key = xsimd::select(xsimd::bool_cast(pencil), pencil_key, key);
                 }
             }

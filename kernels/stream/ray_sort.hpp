@@ -32,11 +32,11 @@ struct alignas(64) RecordLine {
 };
 static_assert(sizeof(RecordLine) == 5 * 64);
 
-// The records and the scatter's per-part staging lines, kept by the caller across calls (no fresh
-// pages per call).
+// The records and the scatter's staging lines (per part, one per bucket), kept by the caller across
+// calls (no fresh pages per call).
 struct RaySortBuffers {
     std::vector<SortRecord, HugePageAllocator<SortRecord>> records;
-    std::vector<std::vector<RecordLine, HugePageAllocator<RecordLine>>> staging;  // per part: one per bucket
+    std::vector<std::vector<RecordLine, HugePageAllocator<RecordLine>>> staging;
 };
 
 // order, sorted_keys and sorted_rays as sort_by_key(keys, hashes, order, sorted_keys) and

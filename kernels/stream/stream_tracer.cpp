@@ -116,7 +116,8 @@ bool sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
     });
     if (buckets_suffice && s.bucket_loose_streams && shared.points.empty() && !hashed) {
         in_arena(options.threads, [&] {
-            stream::bucket_rays(rays, out.keys, out.order, out.sorted_keys, out.rays, options.threads, out.sort_buffers);
+            stream::bucket_rays(rays, out.keys, out.order, out.sorted_keys, out.rays, options.threads,
+                                out.sort_buffers);
         });
         // Singles (through the wide BVH, which answers rays that describe no segment as the
         // no-segment groups do), in runs of at most kMaxCellGroup: work for one task at a time.

@@ -45,8 +45,10 @@ std::vector<Ray> some_rays(std::size_t n, std::mt19937& random, int origins) {
     std::vector<Ray> rays(n);
     for (std::size_t i = 0; i < n; ++i) {
         const int o = int(random() % std::uint32_t(origins));
-        rays[i] = Ray{{float(o % 97), float(o / 97) * 0.5f, -0.25f * float(o % 5)}, float(i % 3),
-                      {1.0f, float(i % 11) - 5.0f, float(random() % 1000) * 1e-3f}, float(i) + 0.5f};
+        rays[i] = Ray{{float(o % 97), float(o / 97) * 0.5f, -0.25f * float(o % 5)},
+                      float(i % 3),
+                      {1.0f, float(i % 11) - 5.0f, float(random() % 1000) * 1e-3f},
+                      float(i) + 0.5f};
     }
     return rays;
 }
@@ -65,7 +67,8 @@ TEST(StreamRaySort, GivesTheSortByKeyAndTheGatherBitForBit) {
             top_shared[i] = random() % 10 ? 0x12300000u | ((random() & 0xFFFFFu) >> (random() % 12)) : random() >> 1;
             few[i] = random() % 7 == 0 ? kNoSegmentKey : (random() % 5) << 22;
             // Origin-cell keys with a few pencils among them (as a mixed stream's).
-            cells[i] = random() % 9 == 0 ? kPencilBit | (random() & 0xFFFFFu) : std::uint32_t(i % 4096) * 2654435761u >> 3;
+            cells[i] =
+                random() % 9 == 0 ? kPencilBit | (random() & 0xFFFFFu) : std::uint32_t(i % 4096) * 2654435761u >> 3;
         }
         for (const auto* keys : {&spread, &top_shared, &few, &cells})
             for (bool hashed : {false, true})
@@ -82,7 +85,7 @@ TEST(StreamRaySort, EveryRayOfOneKeyAndTheOnlyKey) {
 }
 
 TEST(StreamRaySort, TheBucketPassOrdersByTheKeysTopDigitAndKeepsTheInputOrderWithinIt) {
-    // Above and below the size of the staging lines' streaming stores, on one part and two.
+    // Above and below the size of the staging lines and streaming stores, on one part and two.
     std::mt19937 random(23);
     for (std::size_t n : {std::size_t{1}, std::size_t{1000}, std::size_t{300000}, (std::size_t{1} << 20) + 3}) {
         const std::vector<Ray> rays = some_rays(n, random, 5000);
@@ -95,7 +98,7 @@ TEST(StreamRaySort, TheBucketPassOrdersByTheKeysTopDigitAndKeepsTheInputOrderWit
         const int shift = std::max(0, top - digit);
         for (int parts : {1, 2}) {
             std::vector<std::uint32_t> order(n), sorted(n);
-            std::vector<Ray> out(n);
+            std::vector<Ray, HugePageAllocator<Ray>> out(n);  // 16-byte aligned: large streams' streaming stores
             RaySortBuffers buffers;
             tbb::task_arena arena(parts);
             arena.execute([&] { bucket_rays(rays, keys, order, sorted, out, parts, buffers); });

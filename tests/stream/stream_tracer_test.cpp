@@ -26,7 +26,9 @@ std::vector<Ray> mixed_stream(const Scene& scene, unsigned seed) {
     const Box b = scene.bounds();
     const Float3 e = b.extent();
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    auto inside = [&] { return Float3{b.lower.x + e.x * u(random), b.lower.y + e.y * u(random), b.lower.z + e.z * u(random)}; };
+    auto inside = [&] {
+        return Float3{b.lower.x + e.x * u(random), b.lower.y + e.y * u(random), b.lower.z + e.z * u(random)};
+    };
     auto direction = [&] { return Float3{u(random) - 0.5f, u(random) - 0.5f, u(random) - 0.5f}; };
     std::vector<Ray> rays;
     const Float3 camera = b.lower - e * 0.3f;
@@ -222,7 +224,8 @@ TEST_P(StreamTracerScenes, DiffuseBouncesGoInLooseGroupsOrTheWideBvhAndAnswerAsT
     EXPECT_EQ(whole.stream.single_rays, 2 * rays.size());
     // A stream with a shared point or origins met twice is sorted whole.
     std::vector<Ray> twice = rays;
-    for (int i = 0; i < 20000; ++i) twice.push_back(Ray{rays[std::size_t(i)].org, 0.0f, Float3{0.25f, 0.5f, -0.5f}, kInfinity});
+    for (int i = 0; i < 20000; ++i)
+        twice.push_back(Ray{rays[std::size_t(i)].org, 0.0f, Float3{0.25f, 0.5f, -0.5f}, kInfinity});
     std::shuffle(twice.begin(), twice.end(), random);
     const QueryCounters mixed = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), twice, "origins twice");
     EXPECT_EQ(mixed.stream.bucket_ordered_rays, 0u);
@@ -310,7 +313,8 @@ TEST(StreamTracer, ManyOriginsInOneCellAnswerAsTheKdTree) {
     std::uniform_real_distribution<float> u(-0.5f, 0.5f);
     std::vector<Ray> rays;
     for (int o = 0; o < 400; ++o) {
-        const Float3 origin = centre + Float3{e.x * 1e-5f * u(random), e.y * 1e-5f * u(random), e.z * 1e-5f * u(random)};
+        const Float3 origin =
+            centre + Float3{e.x * 1e-5f * u(random), e.y * 1e-5f * u(random), e.z * 1e-5f * u(random)};
         for (int i = 0; i < 16; ++i) {
             const Float3 d{u(random), u(random), u(random)};
             rays.push_back(Ray{origin, 0.0f, d, kInfinity});

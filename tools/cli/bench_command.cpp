@@ -75,10 +75,10 @@ std::string animation_header(const workload::AnimationResult& r) {
 // beamtrace bench --animation: the options that make sense for an animation, the run, the report.
 void run_animation_bench(const BenchArgs& args, const workload::EngineOptions& engine_options) {
     if (args.rays.mode != "primary" || args.rays.lights != 0 || args.rays.area_light || args.rays.order != "input")
-        throw Error("--animation traces each frame's primary rays and their shadow rays to one point light: --mode, "
-                    "--lights, --area-light and --order do not apply");
-    if (!args.scene.camera.empty())
-        throw Error("--animation: the camera is the animation's (--camera does not apply)");
+        throw Error(
+            "--animation traces each frame's primary rays and their shadow rays to one point light: --mode, "
+            "--lights, --area-light and --order do not apply");
+    if (!args.scene.camera.empty()) throw Error("--animation: the camera is the animation's (--camera does not apply)");
     workload::AnimationConfig config;
     config.animation = args.animation;
     if (!args.scene.scene.empty()) config.scene = args.scene.scene;
@@ -254,7 +254,8 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_option("--lists-grid", args->lists_grid,
                     "lists: resolution of the grid that splits a volume, one number or three (x y z), each 1-16")
         ->expected(1, 3);
-    cmd->add_option("--lists-leaf", args->lists.leaf_objects, "lists: volumes of at most this many objects are not split")
+    cmd->add_option("--lists-leaf", args->lists.leaf_objects,
+                    "lists: volumes of at most this many objects are not split")
         ->capture_default_str();
     cmd->add_option("--lists-special", args->lists.special_cell_fraction,
                     "lists: when every centre falls in one cell, objects at least this fraction of the volume on an "

@@ -54,7 +54,8 @@ public:
             {"sort_seconds", sort_seconds},
             {"sort_fraction", seconds > 0 ? sort_seconds / seconds : 0.0},
             {"groups", groups},
-            {"mean_rays_per_group", groups ? double(s.origin_group_rays + s.pencil_rays + s.loose_group_rays) / double(groups) : 0.0},
+            {"mean_rays_per_group",
+             groups ? double(s.origin_group_rays + s.pencil_rays + s.loose_group_rays) / double(groups) : 0.0},
             {"single_rays", s.single_rays},
             {"bucket_ordered_rays", s.bucket_ordered_rays},
             {"origin_groups", s.origin_groups},
@@ -63,17 +64,19 @@ public:
             {"loose_group_rays", s.loose_group_rays},
             {"pencil_packets", s.pencil_packets},
             {"pencil_rays", s.pencil_rays},
-            {"cells_per_ray",
-             double(c.inner_steps + c.leaves + c.packet_steps + s.group_steps + s.group_unreached_planes + s.group_leaves) / n},
+            {"cells_per_ray", double(c.inner_steps + c.leaves + c.packet_steps + s.group_steps +
+                                     s.group_unreached_planes + s.group_leaves) /
+                                  n},
             {"group_steps_per_ray", double(s.group_steps) / n},
             {"group_unreached_planes_per_ray", double(s.group_unreached_planes) / n},
             {"triangle_tests_per_ray", double(c.triangle_tests) / n},
             // The calling thread's buffers of a call of these rays (docs/streams.md): keys, origin
             // hashes, order, sorted keys, sorted rays, the sort's 40-byte records of a ray and its
             // word (stream/ray_sort.hpp), groups, the answers by sorted position.
-            {"buffer_bytes", tracer_->settings().sort
-                                 ? s.rays * (4 + 4 + 4 + 4 + sizeof(Ray) + 40 + (closest ? sizeof(Hit) : 1)) + groups * 12
-                                 : 0},
+            {"buffer_bytes",
+             tracer_->settings().sort
+                 ? s.rays * (4 + 4 + 4 + 4 + sizeof(Ray) + 40 + (closest ? sizeof(Hit) : 1)) + groups * 12
+                 : 0},
             {"sort", tracer_->settings().sort},
             {"min_group_rays", tracer_->settings().min_group_rays},
             {"group_loose_rays", tracer_->settings().group_loose_rays},
@@ -101,7 +104,8 @@ public:
     void build(const Scene& scene, const EngineOptions& options) override {
         native_.reset();  // its rays point into the old Embree scene
         prepared_.forget();
-        oracle_ = std::make_unique<oracle::EmbreeOracle>(scene, oracle::EmbreeSceneOptions{options.embree_robust, options.embree_build_threads});
+        oracle_ = std::make_unique<oracle::EmbreeOracle>(
+            scene, oracle::EmbreeSceneOptions{options.embree_robust, options.embree_build_threads});
         bounds_ = scene.bounds();
         settings_ = options.stream;
     }
@@ -150,8 +154,9 @@ public:
         spread(rays, answers);
     }
     nlohmann::json stats(const RaySet&) const override {
-        return {{"layout", "the stream tracer's sorted order (untimed sort), RTCRayHit / RTCRay per ray, "
-                           "rtcIntersect1 / rtcOccluded1"},
+        return {{"layout",
+                 "the stream tracer's sorted order (untimed sort), RTCRayHit / RTCRay per ray, "
+                 "rtcIntersect1 / rtcOccluded1"},
                 {"anchor", false}};
     }
 
