@@ -57,7 +57,7 @@ struct QueryCounters {
         std::uint64_t group_unreached_planes =
             0;  // inner nodes passed without a step: no lane's segment reaches the plane
         std::uint64_t bucket_ordered_rays =
-            0;  // rays of calls ordered by the bucket pass alone (StreamSettings::bucket_loose_streams)
+            0;  // rays of calls ordered by the bucket pass alone (StreamSettings::bucket_order)
         std::uint64_t sort_nanoseconds = 0;  // keys, sort, grouping and the answers' scatter, summed over calls
     } stream;
 

@@ -54,11 +54,13 @@ struct StreamSettings {
     // traversal (beyond the papers; docs/streams.md "Single rays through a wide BVH"). Loose rays then
     // go one by one (group_loose_rays is for the kd-tree's traversal). The same answers.
     bool wide_bvh = true;
-    // With the wide BVH: a stream whose sample shows no shared point and no origin twice (every ray
-    // loose: diffuse bounces) is ordered by one scatter pass only, by the top digit of its keys
-    // (the rays' origin cells, up to 14 bits), instead of the whole sort (beyond the papers;
-    // docs/streams.md "Diffuse bounces in buckets"). false: the whole sort. The same answers.
-    bool bucket_loose_streams = true;
+    // With the wide BVH: a stream whose sample shows no shared point (ambient occlusion, diffuse
+    // bounces: no pencils to group) is ordered by one scatter pass only, by the top digit of its keys
+    // (the rays' origin cells, up to 14 bits), instead of the whole sort, and every ray goes one by
+    // one through the wide BVH (beyond the papers; docs/streams.md "Streams without shared points in
+    // buckets"). false: the whole sort, and rays of one origin in groups through the kd-tree. The
+    // same answers.
+    bool bucket_order = true;
 
     static constexpr int kMaxSharedPoints = 16;
 

@@ -86,8 +86,7 @@ void in_arena(int threads, F&& f) {
 
 // Keys, sort, gather and groups of a call's rays into `out` (the calling thread's buffers). With
 // `buckets_suffice` (rays traced alone go through the wide BVH) a stream whose sample shows no shared
-// point and no origin twice is ordered by the bucket pass alone, every ray a single; returns whether
-// it was.
+// point is ordered by the bucket pass alone, every ray a single; returns whether it was.
 bool sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray> rays, bool occlusion,
                  bool buckets_suffice, const QueryOptions& options, Isa isa, SortedStream& out) {
     if (rays.size() > std::size_t(0xFFFFFFFFu))
@@ -99,10 +98,12 @@ bool sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
     out.order.resize(rays.size());
     out.sorted_keys.resize(rays.size());
     out.rays.resize(rays.size());
+    const bool bucketed = buckets_suffice && s.bucket_order && shared.points.empty();
     // Keys, then the origins' hashes of the rays keyed by cell, a chunk at a time (its rays still in
-    // cache). Hashes only where the sample saw an origin twice: else a cell's rays would gain
-    // nothing from them (one ray an origin, or each origin's rays already next to each other).
-    const bool hashed = shared.repeated_origins > 0;
+    // cache). Hashes only for the whole sort, where the sample saw an origin twice: else a cell's
+    // rays would gain nothing from them (one ray an origin, or each origin's rays already next to
+    // each other).
+    const bool hashed = !bucketed && shared.repeated_origins > 0;
     out.hashes.resize(hashed ? rays.size() : 0);
     constexpr std::size_t kChunk = 4096;
     run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
@@ -114,7 +115,7 @@ bool sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
                     out.hashes[i] = (out.keys[i] & stream::kPencilBit) ? 0 : stream::origin_hash(rays[i]);
         }
     });
-    if (buckets_suffice && s.bucket_loose_streams && shared.points.empty() && !hashed) {
+    if (bucketed) {
         in_arena(options.threads, [&] {
             stream::bucket_rays(rays, out.keys, out.order, out.sorted_keys, out.rays, options.threads,
                                 out.sort_buffers);

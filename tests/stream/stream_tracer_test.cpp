@@ -210,7 +210,7 @@ TEST_P(StreamTracerScenes, DiffuseBouncesGoInLooseGroupsOrTheWideBvhAndAnswerAsT
     EXPECT_EQ(counters.stream.single_rays, 0u);
     EXPECT_GE(double(counters.stream.loose_group_rays) / double(counters.stream.loose_groups), 15.0);
     // With the wide BVH (the default) every one of them goes through it alone, in the bucket pass's
-    // order (no shared point, no origin twice).
+    // order (no shared point).
     const QueryCounters by_bvh = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), rays, "wide BVH");
     EXPECT_EQ(by_bvh.stream.single_rays, 2 * rays.size());
     EXPECT_EQ(by_bvh.rays, 2 * rays.size());
@@ -218,17 +218,33 @@ TEST_P(StreamTracerScenes, DiffuseBouncesGoInLooseGroupsOrTheWideBvhAndAnswerAsT
     EXPECT_EQ(by_bvh.stream.bucket_ordered_rays, 2 * rays.size());
     // The whole sort instead: the same answers.
     StreamSettings sorted;
-    sorted.bucket_loose_streams = false;
+    sorted.bucket_order = false;
     const QueryCounters whole = expect_the_kd_trees_answers(s, tree, StreamTracer(tree, sorted), rays, "whole sort");
     EXPECT_EQ(whole.stream.bucket_ordered_rays, 0u);
     EXPECT_EQ(whole.stream.single_rays, 2 * rays.size());
-    // A stream with a shared point or origins met twice is sorted whole.
-    std::vector<Ray> twice = rays;
-    for (int i = 0; i < 20000; ++i)
-        twice.push_back(Ray{rays[std::size_t(i)].org, 0.0f, Float3{0.25f, 0.5f, -0.5f}, kInfinity});
-    std::shuffle(twice.begin(), twice.end(), random);
-    const QueryCounters mixed = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), twice, "origins twice");
+    // Ambient-occlusion-like rays (8 from each of 2,500 of the points, shuffled): in buckets too, one
+    // by one; sorted whole, in groups of one origin.
+    std::vector<Ray> ao;
+    for (int i = 0; i < 2500; ++i)
+        for (int k = 0; k < 8; ++k)
+            ao.push_back(
+                Ray{rays[std::size_t(i)].org, 0.0f, Float3{u(random) - 0.5f, u(random) - 0.5f, 0.5f}, 0.3f * e.x});
+    std::shuffle(ao.begin(), ao.end(), random);
+    const QueryCounters ao_buckets = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), ao, "ao in buckets");
+    EXPECT_EQ(ao_buckets.stream.bucket_ordered_rays, 2 * ao.size());
+    EXPECT_EQ(ao_buckets.stream.origin_groups, 0u);
+    const QueryCounters ao_sorted =
+        expect_the_kd_trees_answers(s, tree, StreamTracer(tree, sorted), ao, "ao sorted whole");
+    EXPECT_EQ(ao_sorted.stream.bucket_ordered_rays, 0u);
+    EXPECT_GT(ao_sorted.stream.origin_group_rays, ao.size());
+    // A stream with a shared point (a camera) is sorted whole: its pencils are grouped.
+    std::vector<Ray> with_camera = rays;
+    const Float3 eye{b.lower.x - e.x, b.lower.y + 0.5f * e.y, b.lower.z + 0.5f * e.z};
+    for (int i = 0; i < 5000; ++i) with_camera.push_back(Ray{eye, 0.0f, rays[std::size_t(i)].org - eye, kInfinity});
+    std::shuffle(with_camera.begin(), with_camera.end(), random);
+    const QueryCounters mixed = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), with_camera, "camera");
     EXPECT_EQ(mixed.stream.bucket_ordered_rays, 0u);
+    EXPECT_GT(mixed.stream.pencil_packets, 0u);
 }
 
 TEST_P(StreamTracerScenes, AnswersDoNotDependOnTheInputOrder) {
@@ -302,9 +318,9 @@ TEST(StreamTracer, EmptyStreamsAndSingleRays) {
 }
 
 TEST(StreamTracer, ManyOriginsInOneCellAnswerAsTheKdTree) {
-    // 400 origins inside one origin cell, 16 rays each, shuffled: the sort puts each origin's rays
-    // together (some origins share their hash bits and interleave: traced one by one), the answers
-    // are the kd-tree's.
+    // 400 origins inside one origin cell, 16 rays each, shuffled: the whole sort (no bucket order)
+    // puts each origin's rays together (some origins share their hash bits and interleave: traced one
+    // by one), the answers are the kd-tree's.
     const Scene s = test::random_soup(4000, 60);
     const KdTree tree = KdTree::build(s);
     const Box b = s.bounds();
@@ -321,7 +337,12 @@ TEST(StreamTracer, ManyOriginsInOneCellAnswerAsTheKdTree) {
         }
     }
     std::shuffle(rays.begin(), rays.end(), random);
-    const QueryCounters counters = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), rays, "one cell");
+    StreamSettings whole;
+    whole.bucket_order = false;
+    const QueryCounters counters = expect_the_kd_trees_answers(s, tree, StreamTracer(tree, whole), rays, "one cell");
+    // In buckets: the same answers, every ray through the wide BVH.
+    const QueryCounters buckets = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), rays, "one cell, buckets");
+    EXPECT_EQ(buckets.stream.bucket_ordered_rays, 2 * rays.size());
     EXPECT_GT(counters.stream.origin_group_rays, 2 * rays.size() * 3 / 4);
     EXPECT_EQ(counters.stream.origin_group_rays + counters.stream.single_rays + counters.stream.loose_group_rays,
               2 * rays.size());

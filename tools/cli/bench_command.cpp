@@ -225,9 +225,10 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_flag("--stream-wide-bvh,!--no-stream-wide-bvh", args->stream.wide_bvh,
                   "stream: rays in no group (and every ray with --no-stream-sort) go through a wide BVH built for the "
                   "tracer, one by one (default on; off: the kd-tree's single-ray traversal, the same answers)");
-    cmd->add_flag("--stream-buckets,!--no-stream-buckets", args->stream.bucket_loose_streams,
-                  "stream: with the wide BVH, a stream of loose rays only (diffuse bounces) is ordered by one bucket "
-                  "pass instead of the whole sort (default on; off: the whole sort, the same answers)");
+    cmd->add_flag("--stream-buckets,!--no-stream-buckets", args->stream.bucket_order,
+                  "stream: with the wide BVH, a stream with no shared point (ambient occlusion, diffuse bounces) is "
+                  "ordered by one bucket pass instead of the whole sort and traced ray by ray through the BVH "
+                  "(default on; off: the whole sort and groups, the same answers)");
     cmd->add_option("--stream-min-group", args->stream.min_group_rays,
                     "stream: groups of fewer rays go ray by ray (2 .. 16)")
         ->capture_default_str();

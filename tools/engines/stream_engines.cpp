@@ -81,7 +81,7 @@ public:
             {"min_group_rays", tracer_->settings().min_group_rays},
             {"group_loose_rays", tracer_->settings().group_loose_rays},
             {"wide_bvh", tracer_->settings().wide_bvh},
-            {"bucket_loose_streams", tracer_->settings().bucket_loose_streams},
+            {"bucket_order", tracer_->settings().bucket_order},
             {"wide_bvh_bytes", tracer_->wide_bvh_bytes()},
             {"wide_bvh_build_seconds", tracer_->wide_bvh_build_seconds()}};
         j.update(tree_json(tree_->stats()));
