@@ -126,12 +126,23 @@ Hit walk_wide(const WideBvh& bvh, const Ray& ray, QueryCounters* counters) {
                     ref = node.child[c];
                     continue;
                 }
-                // Several: pushed nearest on top (insertion by entry distance; at equal distance the
-                // later child first, the same order for every policy). Tried and not kept: their
-                // memory requested here; sorting every hit child's key by an AVX-512 network; four
-                // rays' walks interleaved a step each (docs/streams.md).
+                // Several: for occlusion pushed in the node's order (any hit ends the walk, and the
+                // insertion cost more than the order saved: docs/wide_bvh.md); else nearest on top
+                // (insertion by entry distance; at equal distance the later child first, the same
+                // order for every policy). Tried and not kept: their memory requested here; sorting
+                // every hit child's key by an AVX-512 network; four rays' walks interleaved a step
+                // each (docs/streams.md).
                 const int base = top;
                 stack[top++] = Entry{node.child[c], dist[c]};
+                if constexpr (kOcclusion) {
+                    do {
+                        c = __builtin_ctz(bits);
+                        bits &= bits - 1;
+                        stack[top++] = Entry{node.child[c], dist[c]};
+                    } while (bits != 0);
+                    ref = stack[--top].ref;
+                    continue;
+                }
                 do {
                     c = __builtin_ctz(bits);
                     bits &= bits - 1;
