@@ -139,12 +139,17 @@ void scatter_combined(std::span<const Ray> rays, const Word& word, const SortWor
         if (t[d] & 7) copy(d, std::max(first[d], t[d] & ~std::size_t{7}), t[d]);
 }
 
-// sort_rays (sort_buckets) or bucket_rays.
+// What order_rays makes: sort_rays' order, bucket_rays' order in sorted arrays, or bucket_rays'
+// order left in the records.
+enum class Ordering { sorted, buckets, bucket_records };
+
 void order_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
                 std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays,
-                int parts, RaySortBuffers& buffers, bool sort_buckets) {
+                int parts, RaySortBuffers& buffers, Ordering ordering) {
+    const bool sort_buckets = ordering == Ordering::sorted;
     const std::size_t n = rays.size();
-    if (keys.size() != n || order.size() != n || sorted_keys.size() != n || sorted_rays.size() != n ||
+    const bool arrays = ordering != Ordering::bucket_records;  // else the records are the result
+    if (keys.size() != n || (arrays && (order.size() != n || sorted_keys.size() != n || sorted_rays.size() != n)) ||
         (!hashes.empty() && hashes.size() != n))
         throw Error(
             "sort_rays: keys, hashes (when given), order, sorted keys and sorted rays must hold one entry per "
@@ -214,7 +219,7 @@ void order_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, 
     }
     at[buckets] = sum;
     const bool streaming = n >= kStreamingRays && reinterpret_cast<std::uintptr_t>(sorted_rays.data()) % 16 == 0;
-    if (!sort_buckets && n < kStreamingRays) {
+    if (ordering == Ordering::buckets && n < kStreamingRays) {
         // The rays, indices and keys straight to their places (they stay in the caches; larger streams
         // go by the records, whose single stream of stores per bucket measured faster than three).
         for_parts([&](int p) {
@@ -256,6 +261,7 @@ void order_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, 
                          records.data());
     });
     if (combine) _mm_sfence();
+    if (ordering == Ordering::bucket_records) return;
     const BucketSort sort_bucket(layout, shift, records.data(), order, sorted_keys, sorted_rays, streaming);
     if (!sort_buckets) {
         for_parts([&](int p) {
@@ -281,12 +287,21 @@ void order_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, 
 void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
                std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays,
                int parts, RaySortBuffers& buffers) {
-    order_rays(rays, keys, hashes, order, sorted_keys, sorted_rays, parts, buffers, true);
+    order_rays(rays, keys, hashes, order, sorted_keys, sorted_rays, parts, buffers, Ordering::sorted);
 }
 
 void bucket_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
                  std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays, int parts, RaySortBuffers& buffers) {
-    order_rays(rays, keys, {}, order, sorted_keys, sorted_rays, parts, buffers, false);
+    order_rays(rays, keys, {}, order, sorted_keys, sorted_rays, parts, buffers, Ordering::buckets);
+}
+
+std::span<const SortRecord> bucket_records(std::span<const Ray> rays, std::span<const std::uint32_t> keys, int parts,
+                                           RaySortBuffers& buffers) {
+    const std::size_t n = rays.size();
+    if (keys.size() != n)
+        throw Error("bucket_records: the keys must hold one entry per ray (" + std::to_string(n) + ")");
+    order_rays(rays, keys, {}, {}, {}, {}, parts, buffers, Ordering::bucket_records);
+    return std::span<const SortRecord>(buffers.records.data(), n);
 }
 
 }  // namespace beamtrace::stream

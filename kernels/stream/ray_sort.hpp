@@ -54,4 +54,9 @@ void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, s
 void bucket_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
                  std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays, int parts, RaySortBuffers& buffers);
 
+// bucket_rays' order as records in buffers.records (each ray with its word: key << 32 | input
+// index), for a caller that reads the rays where they lie (no copy into sorted arrays).
+std::span<const SortRecord> bucket_records(std::span<const Ray> rays, std::span<const std::uint32_t> keys, int parts,
+                                           RaySortBuffers& buffers);
+
 }  // namespace beamtrace::stream

@@ -62,6 +62,9 @@ constexpr std::size_t kPencilBlock = 4;
 
 // The sorted order of a call: keys, order, the rays in that order, and groups.
 struct SortedStream {
+    // bucket_records: the order is in sort_buffers.records (the rays where the scatter put them, each
+    // with its input index), not in order and rays.
+    bool in_records = false;
     std::vector<std::uint32_t> keys, hashes, order, sorted_keys;
     std::vector<Ray, HugePageAllocator<Ray>> rays;  // in sorted order (huge pages: common/huge_page_allocator.hpp)
     stream::RaySortBuffers sort_buffers;
@@ -94,16 +97,18 @@ bool sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
     stream::SharedPoints shared = stream::find_shared_points(rays, bounds, s.sample_rays, s.shared_point_fraction,
                                                              StreamSettings::kMaxSharedPoints);
     if (!occlusion) std::erase_if(shared.points, [](const stream::SharedPoint& p) { return p.ends; });
-    out.keys.resize(rays.size());
-    out.order.resize(rays.size());
-    out.sorted_keys.resize(rays.size());
-    out.rays.resize(rays.size());
     const bool bucketed = buckets_suffice && s.bucket_order && shared.points.empty();
     // Keys, then the origins' hashes of the rays keyed by cell, a chunk at a time (its rays still in
     // cache). Hashes only for the whole sort, where the sample saw an origin twice: else a cell's
     // rays would gain nothing from them (one ray an origin, or each origin's rays already next to
     // each other).
     const bool hashed = !bucketed && shared.repeated_origins > 0;
+    out.keys.resize(rays.size());
+    if (!bucketed || rays.size() < stream::kStreamingRays) {
+        out.order.resize(rays.size());
+        out.sorted_keys.resize(rays.size());
+        out.rays.resize(rays.size());
+    }
     out.hashes.resize(hashed ? rays.size() : 0);
     constexpr std::size_t kChunk = 4096;
     run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
@@ -115,6 +120,14 @@ bool sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
                     out.hashes[i] = (out.keys[i] & stream::kPencilBit) ? 0 : stream::origin_hash(rays[i]);
         }
     });
+    out.in_records = false;
+    if (bucketed && rays.size() >= stream::kStreamingRays) {
+        // Beyond the caches: traced from the records as the scatter left them (no copy).
+        in_arena(options.threads, [&] { stream::bucket_records(rays, out.keys, options.threads, out.sort_buffers); });
+        out.in_records = true;
+        out.groups.clear();
+        return true;
+    }
     if (bucketed) {
         in_arena(options.threads, [&] {
             stream::bucket_rays(rays, out.keys, out.order, out.sorted_keys, out.rays, options.threads,
@@ -511,18 +524,38 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, WideBvhUse wide_b
         sorted.hits.resize(rays.size());
         by_position = sorted.hits.data();
     }
-    const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, std::uint32_t(s.min_group_rays),
-                                             s.group_loose_rays, wide_bvh, by_position);
-    run_query(sorted.groups.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
-        if (c)
-            trace.template groups<true>(b, e, c);
-        else
-            trace.template groups<false>(b, e, nullptr);
-    });
-    run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
-        const std::uint32_t* order = sorted.order.data();
-        for (std::size_t k = b; k < e; ++k) out[order[k]] = by_position[k];
-    });
+    if (sorted.in_records) {
+        // Every ray alone through the wide BVH, read where the bucket pass put it; its input index is
+        // the low half of its word.
+        const stream::SortRecord* records = sorted.sort_buffers.records.data();
+        run_query(rays.size(), options, stream::kMaxCellGroup, [&](std::size_t b, std::size_t e, QueryCounters* c) {
+            if (c) {
+                c->stream.single_rays += e - b;
+                for (std::size_t k = b; k < e; ++k)
+                    store_answer<kOcclusion>(by_position[k], wide_bvh.trace<kOcclusion, true>(records[k].ray, c));
+            } else {
+                for (std::size_t k = b; k < e; ++k)
+                    store_answer<kOcclusion>(by_position[k],
+                                             wide_bvh.trace<kOcclusion, false>(records[k].ray, nullptr));
+            }
+        });
+        run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
+            for (std::size_t k = b; k < e; ++k) out[std::uint32_t(records[k].word)] = by_position[k];
+        });
+    } else {
+        const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, std::uint32_t(s.min_group_rays),
+                                                 s.group_loose_rays, wide_bvh, by_position);
+        run_query(sorted.groups.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
+            if (c)
+                trace.template groups<true>(b, e, c);
+            else
+                trace.template groups<false>(b, e, nullptr);
+        });
+        run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
+            const std::uint32_t* order = sorted.order.data();
+            for (std::size_t k = b; k < e; ++k) out[order[k]] = by_position[k];
+        });
+    }
     if (options.counters) {
         options.counters->stream.rays += rays.size();
         if (bucketed) options.counters->stream.bucket_ordered_rays += rays.size();
@@ -571,6 +604,11 @@ void stream_order(std::span<const Ray> rays, const Box& scene_bounds, bool close
     }
     SortedStream sorted;
     sort_stream(scene_bounds, settings, rays, !closest_hit, settings.wide_bvh, options, best_isa(), sorted);
+    if (sorted.in_records) {
+        const stream::SortRecord* records = sorted.sort_buffers.records.data();
+        for (std::size_t k = 0; k < order.size(); ++k) order[k] = std::uint32_t(records[k].word);
+        return;
+    }
     std::copy(sorted.order.begin(), sorted.order.end(), order.begin());
 }
 

@@ -317,6 +317,33 @@ TEST(StreamTracer, EmptyStreamsAndSingleRays) {
     }
 }
 
+TEST(StreamTracer, StreamsBeyondTheCachesAnswerFromTheBucketRecords) {
+    // A million and more rays with no shared point: bucketed, then traced where the bucket pass put
+    // them (no copy into sorted arrays). Answers as the kd-tree's; stream_order a permutation.
+    const Scene s = test::random_soup(2000, 62);
+    const KdTree tree = KdTree::build(s);
+    const Box b = s.bounds();
+    const Float3 e = b.extent();
+    std::mt19937 random(63);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<Ray> rays(std::size_t{1} << 20 | 7);
+    for (Ray& r : rays) {
+        const Float3 o{b.lower.x + e.x * u(random), b.lower.y + e.y * u(random), b.lower.z + e.z * u(random)};
+        r = Ray{o, 0.0f, Float3{u(random) - 0.5f, u(random) - 0.5f, u(random) - 0.5f}, 0.25f * e.x};
+    }
+    const QueryCounters counters = expect_the_kd_trees_answers(s, tree, StreamTracer(tree), rays, "from the records");
+    EXPECT_EQ(counters.stream.bucket_ordered_rays, 2 * rays.size());
+    EXPECT_EQ(counters.stream.single_rays, 2 * rays.size());
+    std::vector<std::uint32_t> order(rays.size());
+    stream_order(rays, b, true, order);
+    std::vector<bool> seen(rays.size(), false);
+    for (const std::uint32_t i : order) {
+        ASSERT_LT(i, rays.size());
+        ASSERT_FALSE(seen[i]);
+        seen[i] = true;
+    }
+}
+
 TEST(StreamTracer, ManyOriginsInOneCellAnswerAsTheKdTree) {
     // 400 origins inside one origin cell, 16 rays each, shuffled: the whole sort (no bucket order)
     // puts each origin's rays together (some origins share their hash bits and interleave: traced one
