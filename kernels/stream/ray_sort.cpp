@@ -17,8 +17,9 @@ namespace beamtrace::stream {
 
 namespace {
 
-// The scatter's digit: up to 16 bits (65,536 buckets; room's 16.8 million AO rays, whose keys crowd
-// where the surfaces are, fill 4,585 of them), fewer for smaller streams (about 256 rays a bucket).
+// The scatter's digit: up to 14 bits (16,384 buckets; 16 bits filled 4,585 of 65,536 with room's
+// 16.8 million AO rays, whose keys crowd where the surfaces are, and kept more staging lines in
+// cache than the scatter could afford), fewer for smaller streams (about 256 rays a bucket).
 constexpr int kMaxTopBits = 14;
 int top_bits(std::size_t n) { return std::clamp(int(std::bit_width(n)) - 8, 1, kMaxTopBits); }
 constexpr std::size_t kSmallBucket = 48;  // sorted by std::sort
@@ -145,17 +146,17 @@ enum class Ordering { sorted, buckets, bucket_records };
 
 void order_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
                 std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays,
-                int parts, RaySortBuffers& buffers, Ordering ordering) {
+                int parts, RaySortBuffers& buffers, Ordering ordering, const char* what) {
     const bool sort_buckets = ordering == Ordering::sorted;
     const std::size_t n = rays.size();
     const bool arrays = ordering != Ordering::bucket_records;  // else the records are the result
     if (keys.size() != n || (arrays && (order.size() != n || sorted_keys.size() != n || sorted_rays.size() != n)) ||
         (!hashes.empty() && hashes.size() != n))
-        throw Error(
-            "sort_rays: keys, hashes (when given), order, sorted keys and sorted rays must hold one entry per "
-            "ray (" +
-            std::to_string(n) + ")");
-    if (n > std::size_t(0xFFFFFFFFu)) throw Error("sort_rays: at most 4294967295 rays, not " + std::to_string(n));
+        throw Error(std::string(what) +
+                    ": keys, hashes (when given), order, sorted keys and sorted rays must hold one entry per ray (" +
+                    std::to_string(n) + ")");
+    if (n > std::size_t(0xFFFFFFFFu))
+        throw Error(std::string(what) + ": at most 4294967295 rays, not " + std::to_string(n));
     if (n == 0) return;
     const SortWords layout(keys, hashes);
     const auto word = [&](std::size_t i) { return layout.word(keys[i], layout.hash_bits ? hashes[i] : 0, i); };
@@ -287,21 +288,18 @@ void order_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, 
 void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
                std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays,
                int parts, RaySortBuffers& buffers) {
-    order_rays(rays, keys, hashes, order, sorted_keys, sorted_rays, parts, buffers, Ordering::sorted);
+    order_rays(rays, keys, hashes, order, sorted_keys, sorted_rays, parts, buffers, Ordering::sorted, "sort_rays");
 }
 
 void bucket_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
                  std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays, int parts, RaySortBuffers& buffers) {
-    order_rays(rays, keys, {}, order, sorted_keys, sorted_rays, parts, buffers, Ordering::buckets);
+    order_rays(rays, keys, {}, order, sorted_keys, sorted_rays, parts, buffers, Ordering::buckets, "bucket_rays");
 }
 
 std::span<const SortRecord> bucket_records(std::span<const Ray> rays, std::span<const std::uint32_t> keys, int parts,
                                            RaySortBuffers& buffers) {
-    const std::size_t n = rays.size();
-    if (keys.size() != n)
-        throw Error("bucket_records: the keys must hold one entry per ray (" + std::to_string(n) + ")");
-    order_rays(rays, keys, {}, {}, {}, {}, parts, buffers, Ordering::bucket_records);
-    return std::span<const SortRecord>(buffers.records.data(), n);
+    order_rays(rays, keys, {}, {}, {}, {}, parts, buffers, Ordering::bucket_records, "bucket_records");
+    return std::span<const SortRecord>(buffers.records.data(), rays.size());
 }
 
 }  // namespace beamtrace::stream

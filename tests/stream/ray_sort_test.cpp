@@ -136,4 +136,7 @@ TEST(StreamRaySort, RefusesSpansOfOtherSizes) {
     std::vector<Ray> out(10);
     RaySortBuffers buffers;
     EXPECT_THROW(sort_rays(rays, keys, {}, order, sorted, out, 1, buffers), Error);
+    EXPECT_THROW(bucket_rays(rays, keys, order, sorted, out, 1, buffers), Error);
+    const std::vector<std::uint32_t> short_keys(9);
+    EXPECT_THROW(bucket_records(rays, short_keys, 1, buffers), Error);
 }
