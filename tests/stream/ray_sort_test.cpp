@@ -60,7 +60,7 @@ TEST(StreamRaySort, GivesTheSortByKeyAndTheGatherBitForBit) {
     for (std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{2}, std::size_t{47}, std::size_t{1000},
                           std::size_t{300000}, (std::size_t{1} << 20) + 5}) {
         const std::vector<Ray> rays = some_rays(n, random, 5000);
-        std::vector<std::uint32_t> spread(n), top_shared(n), few(n), cells(n);
+        std::vector<std::uint32_t> spread(n), top_shared(n), few(n), cells(n), narrow(n);
         for (std::size_t i = 0; i < n; ++i) {
             spread[i] = random();
             // Nine in ten share their top bits (one large bucket), their low bits spread.
@@ -69,8 +69,10 @@ TEST(StreamRaySort, GivesTheSortByKeyAndTheGatherBitForBit) {
             // Origin-cell keys with a few pencils among them (as a mixed stream's).
             cells[i] =
                 random() % 9 == 0 ? kPencilBit | (random() & 0xFFFFFu) : std::uint32_t(i % 4096) * 2654435761u >> 3;
+            // Pencils of four points: few bits below the top digit (one radix pass in the buckets).
+            narrow[i] = kPencilBit | (random() & 0x3FFFFFu);
         }
-        for (const auto* keys : {&spread, &top_shared, &few, &cells})
+        for (const auto* keys : {&spread, &top_shared, &few, &cells, &narrow})
             for (bool hashed : {false, true})
                 for (int parts : {1, 2}) expect_as_sort_then_gather(*keys, rays, hashed, parts);
     }
