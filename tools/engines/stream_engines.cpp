@@ -72,7 +72,8 @@ public:
             {"triangle_tests_per_ray", double(c.triangle_tests) / n},
             // The calling thread's buffers of a call of these rays (docs/streams.md): keys, origin
             // hashes, order, sorted keys, sorted rays, the sort's 40-byte records of a ray and its
-            // word (stream/ray_sort.hpp), groups, the answers by sorted position.
+            // word (stream/ray_sort.hpp), groups, the answers by sorted position (at most: a stream
+            // in buckets beyond the caches needs no hashes, order, sorted keys or sorted rays).
             {"buffer_bytes",
              tracer_->settings().sort
                  ? s.rays * (4 + 4 + 4 + 4 + sizeof(Ray) + 40 + (closest ? sizeof(Hit) : 1)) + groups * 12
