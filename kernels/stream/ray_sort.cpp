@@ -74,16 +74,6 @@ public:
         words.trim();
     }
 
-    // The records [begin, end) as they are: rays, indices, keys.
-    void copy(std::size_t begin, std::size_t end) const {
-        for (std::size_t k = begin; k < end; ++k) {
-            const SortRecord& r = records_[k];
-            order_[k] = layout_.index(r.word);
-            sorted_keys_[k] = SortWords::key(r.word);
-            store_ray(sorted_rays_.data() + k, r.ray, streaming_);
-        }
-    }
-
 private:
     // The bucket's records in the words' order: rays, indices, keys.
     void write(const std::uint64_t* w, std::size_t begin, std::size_t m, std::uint64_t pos_mask) const {
@@ -147,7 +137,6 @@ enum class Ordering { sorted, buckets, bucket_records };
 void order_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<const std::uint32_t> hashes,
                 std::span<std::uint32_t> order, std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays,
                 int parts, RaySortBuffers& buffers, Ordering ordering, const char* what) {
-    const bool sort_buckets = ordering == Ordering::sorted;
     const std::size_t n = rays.size();
     const bool arrays = ordering != Ordering::bucket_records;  // else the records are the result
     if (keys.size() != n || (arrays && (order.size() != n || sorted_keys.size() != n || sorted_rays.size() != n)) ||
@@ -219,10 +208,10 @@ void order_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, 
         }
     }
     at[buckets] = sum;
-    const bool streaming = n >= kStreamingRays && reinterpret_cast<std::uintptr_t>(sorted_rays.data()) % 16 == 0;
-    if (ordering == Ordering::buckets && n < kStreamingRays) {
-        // The rays, indices and keys straight to their places (they stay in the caches; larger streams
-        // go by the records, whose single stream of stores per bucket measured faster than three).
+    if (ordering == Ordering::buckets) {
+        // The rays, indices and keys straight to their places. (Beyond the caches three scattered
+        // streams of stores a bucket measured slower than the records' one: the stream tracer takes
+        // bucket_records there.)
         for_parts([&](int p) {
             auto& t = to[std::size_t(p)];
             const auto [begin, end] = range(p);
@@ -263,15 +252,8 @@ void order_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, 
     });
     if (combine) _mm_sfence();
     if (ordering == Ordering::bucket_records) return;
+    const bool streaming = n >= kStreamingRays && reinterpret_cast<std::uintptr_t>(sorted_rays.data()) % 16 == 0;
     const BucketSort sort_bucket(layout, shift, records.data(), order, sorted_keys, sorted_rays, streaming);
-    if (!sort_buckets) {
-        for_parts([&](int p) {
-            const auto [begin, end] = range(p);
-            sort_bucket.copy(begin, end);
-        });
-        if (streaming) _mm_sfence();
-        return;
-    }
     static thread_local BucketWords words;
     const auto bucket = [&](std::size_t d) {
         if (at[d + 1] > at[d]) sort_bucket(at[d], at[d + 1], words);

@@ -49,8 +49,9 @@ void sort_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, s
 // The first pass of sort_rays alone (no hashes): the rays by the top digit of their keys (the
 // highest up to 14 bits the keys vary in), in input order within a digit: an order by key that is
 // exact only to that digit, for rays traced one by one, whose traversal gains from neighbours in
-// space, not from an exact order (docs/streams.md, "Diffuse bounces in buckets"). order, sorted_keys
-// and sorted_rays as sort_rays gives them for this order.
+// space, not from an exact order (docs/streams.md, "Streams without shared points in buckets").
+// order, sorted_keys and sorted_rays as sort_rays gives them for this order, written straight to
+// their places (for streams in the caches; beyond them bucket_records moves fewer bytes).
 void bucket_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, std::span<std::uint32_t> order,
                  std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays, int parts, RaySortBuffers& buffers);
 
