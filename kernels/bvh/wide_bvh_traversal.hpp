@@ -134,24 +134,13 @@ Hit walk_wide(const WideBvh& bvh, const Ray& ray, QueryCounters* counters) {
                 // each (docs/streams.md).
                 const int base = top;
                 stack[top++] = Entry{node.child[c], dist[c]};
-                if constexpr (kOcclusion) {
-                    do {
-                        c = __builtin_ctz(bits);
-                        bits &= bits - 1;
-                        stack[top++] = Entry{node.child[c], dist[c]};
-                    } while (bits != 0);
-                    ref = stack[--top].ref;
-                    continue;
-                }
                 do {
                     c = __builtin_ctz(bits);
                     bits &= bits - 1;
                     const Entry e{node.child[c], dist[c]};
                     int k = top++;
-                    while (k > base && stack[k - 1].tnear < e.tnear) {
-                        stack[k] = stack[k - 1];
-                        --k;
-                    }
+                    if constexpr (!kOcclusion)
+                        for (; k > base && stack[k - 1].tnear < e.tnear; --k) stack[k] = stack[k - 1];
                     stack[k] = e;
                 } while (bits != 0);
                 ref = stack[--top].ref;

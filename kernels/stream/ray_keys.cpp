@@ -82,11 +82,12 @@ SharedPoints find_shared_points(std::span<const Ray> rays, const Box& scene_box,
     }
     const int needed = std::max(2, int(std::ceil(double(fraction) * double(samples))));
     std::vector<std::pair<int, SharedPoint>> found;
-    for (const auto& [o, count] : origins)
-        if (count < needed) shared.repeated_origins += std::size_t(count - 1);
-    for (const auto& [o, count] : origins)
+    for (const auto& [o, count] : origins) {
         if (count >= needed)
             found.push_back({count, SharedPoint{{std::get<0>(o), std::get<1>(o), std::get<2>(o)}, false}});
+        else
+            shared.repeated_origins += std::size_t(count - 1);
+    }
     for (const auto& [key, c] : ends)
         if (c.count >= needed) found.push_back({c.count, SharedPoint{c.sum * (1.0f / float(c.count)), true}});
     std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });

@@ -120,12 +120,13 @@ bool sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
                     out.hashes[i] = (out.keys[i] & stream::kPencilBit) ? 0 : stream::origin_hash(rays[i]);
         }
     });
-    out.in_records = false;
-    if (bucketed && rays.size() >= stream::kStreamingRays) {
-        // Beyond the caches: traced from the records as the scatter left them (no copy).
+    // Bucketed: no groups; every ray goes alone through the wide BVH, which answers rays that describe
+    // no segment as the no-segment groups do. Beyond the caches the rays stay in the records where
+    // the scatter left them (no copy).
+    out.groups.clear();
+    out.in_records = bucketed && rays.size() >= stream::kStreamingRays;
+    if (out.in_records) {
         in_arena(options.threads, [&] { stream::bucket_records(rays, out.keys, options.threads, out.sort_buffers); });
-        out.in_records = true;
-        out.groups.clear();
         return true;
     }
     if (bucketed) {
@@ -133,13 +134,6 @@ bool sort_stream(const Box& bounds, const StreamSettings& s, std::span<const Ray
             stream::bucket_rays(rays, out.keys, out.order, out.sorted_keys, out.rays, options.threads,
                                 out.sort_buffers);
         });
-        // Singles (through the wide BVH, which answers rays that describe no segment as the
-        // no-segment groups do), in runs of at most kMaxCellGroup: work for one task at a time.
-        out.groups.clear();
-        for (std::size_t b = 0; b < rays.size(); b += stream::kMaxCellGroup)
-            out.groups.push_back(stream::RayGroup{
-                std::uint32_t(b), std::uint32_t(std::min<std::size_t>(stream::kMaxCellGroup, rays.size() - b)),
-                stream::RayGroup::Kind::single});
         return true;
     }
     // Sorted and gathered in one (stream/ray_sort.hpp: the rays move with their sort words).
@@ -227,6 +221,18 @@ LooseWindow loose_window(std::size_t call_rays) {
     return {w, (std::countr_zero(w) - 4) / 2};
 }
 
+// An answer as the caller's span holds it: the hit, or whether there is one.
+template <bool kOcclusion, class Out>
+void store_answer(Out& slot, const Hit& h) {
+    if constexpr (kOcclusion)
+        slot = h.hit();
+    else
+        slot = h;
+}
+
+// Rays traced alone through the wide BVH, a task's share of them.
+constexpr std::size_t kAloneGrain = 1024;
+
 // The wide BVH with its kernels (StreamTracer::bvh_, bvh_kernels_); bvh null: none.
 struct WideBvhUse {
     const bvh::WideBvh* bvh;
@@ -239,16 +245,24 @@ struct WideBvhUse {
             return (kOcclusion ? kernels->occluded_counted : kernels->intersect_counted)(*bvh, ray, c);
         return (kOcclusion ? kernels->occluded : kernels->intersect)(*bvh, ray);
     }
-};
 
-// An answer as the caller's span holds it: the hit, or whether there is one.
-template <bool kOcclusion, class Out>
-void store_answer(Out& slot, const Hit& h) {
-    if constexpr (kOcclusion)
-        slot = h.hit();
-    else
-        slot = h;
-}
+    // Rays [b, e) one by one (ray(k): the k-th), their answers to out[b .. e).
+    template <bool kOcclusion, bool kCount, class RayAt, class Out>
+    void trace_range(std::size_t b, std::size_t e, const RayAt& ray, Out* out, QueryCounters* c) const {
+        for (std::size_t k = b; k < e; ++k) store_answer<kOcclusion>(out[k], trace<kOcclusion, kCount>(ray(k), c));
+    }
+
+    // All n of them on the options' threads, counted when options.counters is set.
+    template <bool kOcclusion, class RayAt, class Out>
+    void trace_all(std::size_t n, const QueryOptions& options, const RayAt& ray, Out* out) const {
+        run_query(n, options, kAloneGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
+            if (c)
+                trace_range<kOcclusion, true>(b, e, ray, out, c);
+            else
+                trace_range<kOcclusion, false>(b, e, ray, out, nullptr);
+        });
+    }
+};
 
 template <bool kOcclusion, class Out>
 class StreamTrace {
@@ -352,7 +366,8 @@ private:
     template <bool kCount>
     void singles(std::uint32_t begin, std::uint32_t end, QueryCounters* c) const {
         if (bvh_.bvh) {
-            for (std::uint32_t k = begin; k < end; ++k) write(k, bvh_.template trace<kOcclusion, kCount>(rays_[k], c));
+            bvh_.template trace_range<kOcclusion, kCount>(
+                begin, end, [this](std::size_t k) -> const Ray& { return rays_[k]; }, out_, c);
             return;
         }
         const kdtree::CornerRows rows = context_.tables.rows();
@@ -481,11 +496,8 @@ template <bool kOcclusion, class Out>
 void trace_stream(const KdTree& tree, const StreamSettings& s, WideBvhUse wide_bvh, std::span<const Ray> rays, Out* out,
                   const QueryOptions& options) {
     if (!s.sort && wide_bvh.bvh) {
-        run_query(rays.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
-            for (std::size_t i = b; i < e; ++i)
-                store_answer<kOcclusion>(out[i], c ? wide_bvh.template trace<kOcclusion, true>(rays[i], c)
-                                                   : wide_bvh.template trace<kOcclusion, false>(rays[i], nullptr));
-        });
+        wide_bvh.trace_all<kOcclusion>(
+            rays.size(), options, [&](std::size_t k) -> const Ray& { return rays[k]; }, out);
         if (options.counters) options.counters->stream.rays += rays.size();
         return;
     }
@@ -524,24 +536,30 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, WideBvhUse wide_b
         sorted.hits.resize(rays.size());
         by_position = sorted.hits.data();
     }
-    if (sorted.in_records) {
-        // Every ray alone through the wide BVH, read where the bucket pass put it; its input index is
-        // the low half of its word.
-        const stream::SortRecord* records = sorted.sort_buffers.records.data();
-        run_query(rays.size(), options, stream::kMaxCellGroup, [&](std::size_t b, std::size_t e, QueryCounters* c) {
-            if (c) {
-                c->stream.single_rays += e - b;
-                for (std::size_t k = b; k < e; ++k)
-                    store_answer<kOcclusion>(by_position[k], wide_bvh.trace<kOcclusion, true>(records[k].ray, c));
-            } else {
-                for (std::size_t k = b; k < e; ++k)
-                    store_answer<kOcclusion>(by_position[k],
-                                             wide_bvh.trace<kOcclusion, false>(records[k].ray, nullptr));
-            }
-        });
+    // The answers from sorted position k to input index index(k).
+    const auto scatter = [&](const auto& index) {
         run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
-            for (std::size_t k = b; k < e; ++k) out[std::uint32_t(records[k].word)] = by_position[k];
+            for (std::size_t k = b; k < e; ++k) out[index(k)] = by_position[k];
         });
+    };
+    const std::uint32_t* order = sorted.order.data();
+    const auto by_order = [order](std::size_t k) { return order[k]; };
+    if (bucketed) {
+        // Every ray alone through the wide BVH in the bucket pass's order: read from the records where
+        // it left them (beyond the caches; the input index is a word's low half), else from the rays
+        // it wrote in order.
+        if (options.counters) options.counters->stream.single_rays += rays.size();
+        if (sorted.in_records) {
+            const stream::SortRecord* records = sorted.sort_buffers.records.data();
+            wide_bvh.trace_all<kOcclusion>(
+                rays.size(), options, [records](std::size_t k) -> const Ray& { return records[k].ray; }, by_position);
+            scatter([records](std::size_t k) { return std::uint32_t(records[k].word); });
+        } else {
+            const Ray* in_order = sorted.rays.data();
+            wide_bvh.trace_all<kOcclusion>(
+                rays.size(), options, [in_order](std::size_t k) -> const Ray& { return in_order[k]; }, by_position);
+            scatter(by_order);
+        }
     } else {
         const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, std::uint32_t(s.min_group_rays),
                                                  s.group_loose_rays, wide_bvh, by_position);
@@ -551,10 +569,7 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, WideBvhUse wide_b
             else
                 trace.template groups<false>(b, e, nullptr);
         });
-        run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
-            const std::uint32_t* order = sorted.order.data();
-            for (std::size_t k = b; k < e; ++k) out[order[k]] = by_position[k];
-        });
+        scatter(by_order);
     }
     if (options.counters) {
         options.counters->stream.rays += rays.size();
