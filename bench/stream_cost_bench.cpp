@@ -19,6 +19,10 @@
 //   <scene>/diffuse_single  diffuse bounces (one closest-hit ray per primary hit) one by one, by origin cell (per ray)
 //   <scene>/diffuse_bvh     the same through the wide BVH, by origin cell (per ray)
 //   <scene>/diffuse_bvh_shuffled  the same in the shuffled order (per ray)
+//   <scene>/embree_ao_shuffled    Embree's rtcOccluded1 (incoherent context) on bvh_shuffled's rays: the
+//                                 anchor's single-ray kernel on the same inputs, per ray
+//   <scene>/embree_diffuse_shuffled  Embree's rtcIntersect1 on diffuse_bvh_shuffled's rays (per ray)
+//   <scene>/embree_diffuse_hot       the same on diffuse_bvh_hot's 1,024 rays (per ray)
 //   <scene>/diffuse_bvh_hot       diffuse_bvh on the first 1,024 rays only (the nodes they meet stay in
 //                                 cache: the arithmetic's and the branches' share; per ray)
 //   <scene>/diffuse_bvh_leafN     diffuse_bvh with leaves of at most N triangles (12 above; per ray)
@@ -29,6 +33,7 @@
 //
 // Time is the thread's CPU time; everything runs on one thread.
 #include <benchmark/benchmark.h>
+#include <embree3/rtcore.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -50,6 +55,7 @@
 #include "stream/ray_keys.hpp"
 #include "stream/ray_sort.hpp"
 #include "bench_scenes.hpp"
+#include "oracle/embree_oracle.hpp"
 #include "rays/workload.hpp"
 
 namespace {
@@ -284,6 +290,43 @@ void bvh_rays(benchmark::State& state, const KdTree& tree, const std::vector<Ray
     state.counters["bvh_MB"] = double(b.stats.memory_bytes) / 1e6;
 }
 
+// Embree's single-ray calls on the same rays (rays prebuilt in its layout, incoherent context): the
+// anchor's kernel term by term against bvh_rays. The scene is robust, as the bench's anchor engines.
+void embree_rays(benchmark::State& state, const KdTree& tree, const std::vector<Ray>& rays, bool occlusion) {
+    static std::map<const KdTree*, std::unique_ptr<oracle::EmbreeOracle>> cache;
+    auto& embree = cache[&tree];
+    if (!embree) embree = std::make_unique<oracle::EmbreeOracle>(tree.scene());
+    RTCScene scene = embree->native_scene();
+    std::vector<RTCRayHit> native(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Ray& r = rays[i];
+        RTCRay& n = native[i].ray;
+        n = RTCRay{};
+        n.org_x = r.org.x, n.org_y = r.org.y, n.org_z = r.org.z, n.tnear = r.tnear;
+        n.dir_x = r.dir.x, n.dir_y = r.dir.y, n.dir_z = r.dir.z, n.tfar = r.tfar;
+        n.mask = ~0u;
+        n.id = unsigned(i);
+        native[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    std::size_t next = 0;
+    float sum = 0;
+    for (auto _ : state) {
+        RTCRayHit q = native[next];
+        if (occlusion) {
+            rtcOccluded1(scene, &context, &q.ray);
+        } else {
+            rtcIntersect1(scene, &context, &q);
+        }
+        sum += q.ray.tfar;
+        next = next + 1 == rays.size() ? 0 : next + 1;
+    }
+    benchmark::DoNotOptimize(sum);
+    per_ray(state, 1);
+}
+
 void bm_bvh(benchmark::State& state, const std::string& name, bool sorted) {
     StreamCase& c = stream_case(name);
     if (!usable(state, c)) return;
@@ -409,6 +452,22 @@ void register_benchmarks() {
         reg("bvh_sorted", [name](benchmark::State& s) { bm_bvh(s, name, true); });
         reg("bvh_shuffled", [name](benchmark::State& s) { bm_bvh(s, name, false); });
         reg("stream", [name](benchmark::State& s) { bm_stream(s, name); });
+        reg("embree_ao_shuffled", [name](benchmark::State& s) {
+            StreamCase& c = stream_case(name);
+            if (usable(s, c)) embree_rays(s, *c.tree, c.rays, true);
+        });
+        reg("embree_diffuse_shuffled", [name](benchmark::State& s) {
+            DiffuseCase& c = diffuse_case(name);
+            if (!c.error.empty()) return s.SkipWithError(c.error.c_str());
+            embree_rays(s, *c.tree, c.shuffled, false);
+        });
+        reg("embree_diffuse_hot", [name](benchmark::State& s) {
+            DiffuseCase& c = diffuse_case(name);
+            if (!c.error.empty()) return s.SkipWithError(c.error.c_str());
+            const std::size_t n = std::min<std::size_t>(1024, c.by_origin.size());
+            embree_rays(s, *c.tree, std::vector<Ray>(c.by_origin.begin(), c.by_origin.begin() + std::ptrdiff_t(n)),
+                        false);
+        });
         reg("diffuse_single", [name](benchmark::State& s) { bm_diffuse_single(s, name); });
         const int leaf = bvh::WideBvhSettings{}.max_leaf_triangles;
         reg("diffuse_bvh", [name, leaf](benchmark::State& s) { bm_diffuse_bvh(s, name, false, leaf); });

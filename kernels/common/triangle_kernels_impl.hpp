@@ -26,6 +26,35 @@ template <class Arch, class Corner>
             corner(1, 2), corner(2, 0), corner(2, 1), corner(2, 2)};
 }
 
+// The double-precision fallback of watertight_core, out of line: lanes where an edge function is
+// exactly zero get all three again in double precision. Rare; kept out of the hot path so that the
+// core needs no stack frame for the arrays it spills to.
+template <class Arch>
+[[gnu::noinline, gnu::cold]] void watertight_edges_exact(
+    const xsimd::batch<float, Arch>& ax, const xsimd::batch<float, Arch>& ay, const xsimd::batch<float, Arch>& bx,
+    const xsimd::batch<float, Arch>& by, const xsimd::batch<float, Arch>& cx, const xsimd::batch<float, Arch>& cy,
+    xsimd::batch<float, Arch>& u, xsimd::batch<float, Arch>& v, xsimd::batch<float, Arch>& w) {
+    using B = xsimd::batch<float, Arch>;
+    constexpr int W = int(B::size);
+    alignas(64) float su[W], sv[W], sw[W], fax[W], fay[W], fbx[W], fby[W], fcx[W], fcy[W];
+    u.store_aligned(su);
+    v.store_aligned(sv);
+    w.store_aligned(sw);
+    ax.store_aligned(fax);
+    ay.store_aligned(fay);
+    bx.store_aligned(fbx);
+    by.store_aligned(fby);
+    cx.store_aligned(fcx);
+    cy.store_aligned(fcy);
+    for (int i = 0; i < W; ++i) {
+        if (su[i] == 0.0f || sv[i] == 0.0f || sw[i] == 0.0f)
+            watertight_edges_double(fax[i], fay[i], fbx[i], fby[i], fcx[i], fcy[i], su[i], sv[i], sw[i]);
+    }
+    u = B::load_aligned(su);
+    v = B::load_aligned(sv);
+    w = B::load_aligned(sw);
+}
+
 // The shared core: shear, edge functions (with the double-precision fallback on lanes where one is
 // exactly zero), sign test, determinant and distance. Writes t, u, v of hitting lanes into out at
 // lane offset `base` and returns their bits (relative to base).
@@ -37,7 +66,6 @@ template <class Arch>
                                                             const xsimd::batch<float, Arch>& tfar,
                                                             std::uint32_t valid_bits, LaneHits& out, int base) {
     using B = xsimd::batch<float, Arch>;
-    constexpr int W = int(B::size);
     const B zero(0.0f);
     const B ax = k.ax - sx * k.az, ay = k.ay - sy * k.az;
     const B bx = k.bx - sx * k.bz, by = k.by - sy * k.bz;
@@ -45,25 +73,8 @@ template <class Arch>
     B u = cx * by - cy * bx;
     B v = ax * cy - ay * cx;
     B w = bx * ay - by * ax;
-    if (lane_bits<Arch>((u == zero) | (v == zero) | (w == zero)) & valid_bits) {
-        alignas(64) float su[W], sv[W], sw[W], fax[W], fay[W], fbx[W], fby[W], fcx[W], fcy[W];
-        u.store_aligned(su);
-        v.store_aligned(sv);
-        w.store_aligned(sw);
-        ax.store_aligned(fax);
-        ay.store_aligned(fay);
-        bx.store_aligned(fbx);
-        by.store_aligned(fby);
-        cx.store_aligned(fcx);
-        cy.store_aligned(fcy);
-        for (int i = 0; i < W; ++i) {
-            if (su[i] == 0.0f || sv[i] == 0.0f || sw[i] == 0.0f)
-                watertight_edges_double(fax[i], fay[i], fbx[i], fby[i], fcx[i], fcy[i], su[i], sv[i], sw[i]);
-        }
-        u = B::load_aligned(su);
-        v = B::load_aligned(sv);
-        w = B::load_aligned(sw);
-    }
+    if (lane_bits<Arch>((u == zero) | (v == zero) | (w == zero)) & valid_bits) [[unlikely]]
+        watertight_edges_exact<Arch>(ax, ay, bx, by, cx, cy, u, v, w);
     const auto negative = (u < zero) | (v < zero) | (w < zero);
     const auto positive = (u > zero) | (v > zero) | (w > zero);
     // Most tests in traversal miss every ray on the edge signs alone (triangles of a leaf that fall
@@ -108,7 +119,8 @@ template <class Arch>
 // One ray against n <= 16 consecutive triangles of corner rows (TriangleKernels::ray_rows), W lanes a
 // step: the operations of ray_xw on the same values, loaded from the rows instead of copied.
 template <class Arch>
-void ray_rows(const WatertightRay& r, const float* rows, std::size_t stride, std::size_t first, int n, LaneHits& out) {
+[[gnu::always_inline]] inline void ray_rows(const WatertightRay& r, const float* rows, std::size_t stride,
+                                            std::size_t first, int n, LaneHits& out) {
     using B = xsimd::batch<float, Arch>;
     constexpr int W = int(B::size);
     const float* o = &r.org.x;
@@ -121,7 +133,8 @@ void ray_rows(const WatertightRay& r, const float* rows, std::size_t stride, std
         });
         const int left = n - base;
         const std::uint32_t valid = left >= W ? (1u << W) - 1u : (1u << left) - 1u;
-        out.mask |= watertight_core<Arch>(k, B(r.sx), B(r.sy), B(r.sz), B(r.tnear), B(r.tfar), valid, out, base) << base;
+        out.mask |= watertight_core<Arch>(k, B(r.sx), B(r.sy), B(r.sz), B(r.tnear), B(r.tfar), valid, out, base)
+                    << base;
     }
 }
 
