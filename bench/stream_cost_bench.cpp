@@ -288,6 +288,15 @@ void bvh_rays(benchmark::State& state, const KdTree& tree, const std::vector<Ray
     state.counters["tests_per_ray"] = double(counters.triangle_tests) / n;
     state.counters["build_s"] = b.stats.build_seconds;
     state.counters["bvh_MB"] = double(b.stats.memory_bytes) / 1e6;
+    std::size_t le16 = 0, kids = 0;
+    for (std::size_t i = 0; i < b.stats.inner_nodes; ++i) {
+        int k = 0;
+        while (k < bvh::kWidth && b.nodes[i].child[k] != bvh::kEmpty) ++k;
+        kids += std::size_t(k);
+        le16 += k <= 16;
+    }
+    state.counters["nodes_le16"] = double(le16) / double(b.stats.inner_nodes);
+    state.counters["children"] = double(kids) / double(b.stats.inner_nodes);
 }
 
 // Embree's single-ray calls on the same rays (rays prebuilt in its layout, incoherent context): the

@@ -19,19 +19,29 @@ namespace beamtrace::bvh {
 
 constexpr int kWidth = 32;
 
-// A child reference: an inner node's index, a leaf (kLeafBit | (count - 1) << kCountShift | first
-// triangle of the BVH order) or kEmpty (a child slot with no box: lower +inf, upper -inf).
+// A child reference: an inner node (its index and how many children it has: kChildrenShift up), a
+// leaf (kLeafBit | (count - 1) << kCountShift | first triangle of the BVH order) or kEmpty (a child
+// slot with no box: lower +inf, upper -inf). A node's children fill its first slots, so a walk tests
+// only the registers that hold them: most nodes near the leaves have 16 children or fewer, one
+// AVX-512 register a plane instead of two, and their upper lines are never read.
 constexpr std::uint32_t kLeafBit = 0x80000000u;
 constexpr int kCountShift = 27;
 constexpr std::uint32_t kFirstMask = (1u << kCountShift) - 1u;
 constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
 constexpr int kMaxLeafTriangles = 16;
+constexpr int kChildrenShift = 25;
+constexpr std::uint32_t kNodeIndexMask = (1u << kChildrenShift) - 1u;  // at most 2^25 inner nodes
 
 inline bool is_leaf(std::uint32_t ref) { return (ref & kLeafBit) != 0; }
 inline std::uint32_t leaf_count(std::uint32_t ref) { return ((ref >> kCountShift) & 15u) + 1u; }
 inline std::uint32_t leaf_first(std::uint32_t ref) { return ref & kFirstMask; }
 inline std::uint32_t make_leaf(std::uint32_t first, std::uint32_t count) {
     return kLeafBit | ((count - 1u) << kCountShift) | first;
+}
+inline std::uint32_t node_index(std::uint32_t ref) { return ref & kNodeIndexMask; }
+inline int node_children(std::uint32_t ref) { return int((ref >> kChildrenShift) & 31u) + 1; }
+inline std::uint32_t make_inner(std::uint32_t index, int children) {
+    return (std::uint32_t(children - 1) << kChildrenShift) | index;
 }
 
 // 1 KB, sixteen cache lines: the 32 children's boxes plane by plane (lower x of the 32, then lower y,
@@ -80,7 +90,7 @@ public:
     static constexpr int kMaxDepth = 80;
 
     std::uint32_t root = kEmpty;              // a child reference (a leaf for a small scene)
-    const WideNode* nodes = nullptr;          // nodes[0 .. stats.inner_nodes)
+    const WideNode* nodes = nullptr;          // nodes[0 .. stats.inner_nodes), by node_index(ref)
     std::vector<std::uint32_t> triangle_ids;  // the BVH order: leaf triangles side by side
     // The corners of each leaf in one block: the leaf of triangles first .. first + n - 1 (BVH order)
     // has its nine rows of n floats (row c: component c % 3 of corner c / 3) at rows + 9 * first,

@@ -194,6 +194,7 @@ public:
 
     static std::uint32_t lay_out(const BuildNode& n, WideNode* nodes, std::uint32_t& next, std::size_t& leaves) {
         const std::uint32_t index = next++;
+        if (index > kNodeIndexMask) throw Error("wide BVH: more than " + std::to_string(kNodeIndexMask + 1) + " nodes");
         WideNode& w = nodes[index];
         for (int a = 0; a < 3; ++a)
             for (int c = 0; c < kWidth; ++c) {
@@ -214,14 +215,14 @@ public:
                 ++leaves;
             }
         }
-        return index;
+        return make_inner(index, n.count);
     }
 
     // The corner block of every leaf under ref.
     static void fill_rows(WideBvh& b, const Scene& scene, std::uint32_t ref) {
         if (ref == kEmpty) return;
         if (!is_leaf(ref)) {
-            for (int c = 0; c < kWidth; ++c) fill_rows(b, scene, b.nodes[ref].child[c]);
+            for (int c = 0; c < kWidth; ++c) fill_rows(b, scene, b.nodes[node_index(ref)].child[c]);
             return;
         }
         const std::uint32_t first = leaf_first(ref), n = leaf_count(ref);

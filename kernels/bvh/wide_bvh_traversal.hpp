@@ -60,16 +60,34 @@ inline BoxRay make_box_ray(const Ray& ray) {
 inline float max_keeping(float a, float b) { return a > b ? a : b; }
 inline float min_keeping(float a, float b) { return a < b ? a : b; }
 
+// Two leaves' tests as one LaneHits by a one-leaf test `leaf` (ScalarLanes::leaves; the SIMD
+// policies' form where one register cannot take both): each block alone, the second's lanes moved up
+// behind the first's.
+template <class Leaf>
+void join_leaves(const WatertightRay& w, const float* rows, int count, const float* rows_b, int count_b, LaneHits& out,
+                 const Leaf& leaf) {
+    leaf(w, rows, std::size_t(count), 0, count, out);
+    LaneHits b;
+    leaf(w, rows_b, std::size_t(count_b), 0, count_b, b);
+    for (int i = 0; i < count_b; ++i) {
+        out.t[count + i] = b.t[i];
+        out.u[count + i] = b.u[i];
+        out.v[count + i] = b.v[i];
+    }
+    out.mask |= b.mask << count;
+}
+
 // The reference policy.
 struct ScalarLanes {
     using Prepared = BoxRay;
     static BoxRay prepare(const BoxRay& r) { return r; }
 
-    // Bit c set when child c's box meets [tnear, tfar]; dist[c] its (slackened) entry distance.
+    // Bit c set when child c (< children, the node's count) meets [tnear, tfar]; dist[c] its
+    // (slackened) entry distance.
     template <bool kForward>
-    static std::uint32_t node(const BoxRay& r, const WideNode& n, float tnear, float tfar, float* dist) {
+    static std::uint32_t node(const BoxRay& r, const WideNode& n, int children, float tnear, float tfar, float* dist) {
         std::uint32_t bits = 0;
-        for (int c = 0; c < kWidth; ++c) {
+        for (int c = 0; c < children; ++c) {
             float t0[3], t1[3];
             for (int a = 0; a < 3; ++a) {
                 const float near_plane = r.upper_first[a] ? n.upper[a][c] : n.lower[a][c];
@@ -96,6 +114,13 @@ struct ScalarLanes {
                      LaneHits& out) {
         triangle_kernels(Isa::scalar).ray_rows(w, rows, stride, first, count, out);
     }
+
+    // Two leaves in one test (count + count_b <= 16): lanes 0 .. count - 1 the first leaf's block,
+    // then the second's, each lane as leaf() gives it.
+    static void leaves(const WatertightRay& w, const float* rows, int count, const float* rows_b, int count_b,
+                       LaneHits& out) {
+        join_leaves(w, rows, count, rows_b, count_b, out, leaf);
+    }
 };
 
 // One ray's walk from the root, front to back; kForward: the ray's tnear >= 0 (the scaled-reciprocal
@@ -116,9 +141,10 @@ Hit walk_wide(const WideBvh& bvh, const Ray& ray, QueryCounters* counters) {
     for (;;) {
         if (!is_leaf(ref)) {
             if constexpr (kCount) ++counters->inner_steps;
-            const WideNode& node = bvh.nodes[ref];
+            const WideNode& node = bvh.nodes[node_index(ref)];
             alignas(64) float dist[kWidth];
-            std::uint32_t bits = Lanes::template node<kForward>(prepared, node, ray.tnear, tfar, dist);
+            std::uint32_t bits =
+                Lanes::template node<kForward>(prepared, node, node_children(ref), ray.tnear, tfar, dist);
             if (bits != 0) {
                 int c = __builtin_ctz(bits);
                 bits &= bits - 1;
@@ -149,22 +175,42 @@ Hit walk_wide(const WideBvh& bvh, const Ray& ray, QueryCounters* counters) {
         } else {
             const std::uint32_t first = leaf_first(ref);
             const int count = int(leaf_count(ref));
+            // A leaf next on the stack joins this one's test when both fit one test of 16 lanes (and,
+            // for the closest hit, its entry is not beyond the hit so far): the walk would test it
+            // next, and one test's chain of dependent operations is spared. Its hits are no nearer
+            // than its entry, so the answer is the one the two tests in turn give. (Up to four leaves
+            // in one test measured slower: docs/wide_bvh.md.)
+            std::uint32_t first_b = 0;
+            int count_b = 0;
+            if (top != 0 && is_leaf(stack[top - 1].ref) &&
+                count + int(leaf_count(stack[top - 1].ref)) <= kMaxLeafTriangles &&
+                (kOcclusion || stack[top - 1].tnear <= tfar)) {
+                --top;
+                first_b = leaf_first(stack[top].ref);
+                count_b = int(leaf_count(stack[top].ref));
+            }
             if constexpr (kCount) {
-                ++counters->leaves;
-                counters->triangle_tests += std::uint64_t(count);
+                counters->leaves += count_b != 0 ? 2 : 1;
+                counters->triangle_tests += std::uint64_t(count + count_b);
             }
             LaneHits lanes;
-            Lanes::leaf(wray, bvh.rows.data() + 9 * std::size_t(first), std::size_t(count), 0, count, lanes);
+            const float* rows = bvh.rows.data() + 9 * std::size_t(first);
+            if (count_b == 0)
+                Lanes::leaf(wray, rows, std::size_t(count), 0, count, lanes);
+            else
+                Lanes::leaves(wray, rows, count, bvh.rows.data() + 9 * std::size_t(first_b), count_b, lanes);
+            const auto id = [&](int i) {
+                return bvh.triangle_ids[i < count ? first + std::uint32_t(i) : first_b + std::uint32_t(i - count)];
+            };
             if constexpr (kOcclusion) {
                 if (lanes.mask != 0) {
                     const int i = __builtin_ctz(lanes.mask);
-                    return Hit{lanes.t[i], bvh.triangle_ids[first + std::uint32_t(i)], lanes.u[i], lanes.v[i]};
+                    return Hit{lanes.t[i], id(i), lanes.u[i], lanes.v[i]};
                 }
             } else {
                 for (std::uint32_t m = lanes.mask; m != 0; m &= m - 1) {
                     const int i = __builtin_ctz(m);
-                    if (lanes.t[i] < best.t)
-                        best = Hit{lanes.t[i], bvh.triangle_ids[first + std::uint32_t(i)], lanes.u[i], lanes.v[i]};
+                    if (lanes.t[i] < best.t) best = Hit{lanes.t[i], id(i), lanes.u[i], lanes.v[i]};
                 }
                 if (best.hit()) tfar = wray.tfar = best.t;
             }

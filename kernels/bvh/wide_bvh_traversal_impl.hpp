@@ -2,6 +2,8 @@
 // The SIMD lane policy of the wide BVH's traversal (wide_bvh_traversal.hpp) for one xsimd Arch:
 // the children's slab distances a register at a time (kWidth / 16 AVX-512 registers, / 8 AVX2, / 4
 // SSE4.2), the leaf by ray_rows. Included only by the per-ISA units (simd/kernels_<isa>.cpp).
+#include <immintrin.h>
+
 #include <xsimd/xsimd.hpp>
 
 #include "bvh/wide_bvh_traversal.hpp"
@@ -37,10 +39,11 @@ struct SimdLanes {
     // ScalarLanes::node's operations, kLanes children at a time (xsimd::max(a, b) and min(a, b) are
     // the instructions whose NaN rule the reference's comparisons copy).
     template <bool kForward>
-    static std::uint32_t node(const Prepared& r, const WideNode& n, float tnear, float tfar, float* dist) {
+    static std::uint32_t node(const Prepared& r, const WideNode& n, int children, float tnear, float tfar,
+                              float* dist) {
         std::uint32_t bits = 0;
         const float* planes = &n.lower[0][0];
-        for (int base = 0; base < kWidth; base += kLanes) {
+        for (int base = 0; base < children; base += kLanes) {
             B t0[3], t1[3];
             for (int a = 0; a < 3; ++a) {
                 const B near_plane = B::load_aligned(planes + r.near[a] + base);
@@ -64,6 +67,28 @@ struct SimdLanes {
     static void leaf(const WatertightRay& w, const float* rows, std::size_t stride, std::uint32_t first, int count,
                      LaneHits& out) {
         simd::ray_rows<Arch>(w, rows, stride, first, count, out);
+    }
+
+    // ScalarLanes::leaves: on AVX-512 both blocks in one register a row (the first leaf's row by a
+    // masked load, the second's expanded into the lanes behind it), one test; elsewhere one a leaf.
+    static void leaves(const WatertightRay& w, const float* rows, int count, const float* rows_b, int count_b,
+                       LaneHits& out) {
+        if constexpr (kLanes == 16) {
+            const __mmask16 a_lanes = __mmask16((1u << count) - 1u);
+            const __mmask16 b_lanes = __mmask16(((1u << count_b) - 1u) << count);
+            const float* o = &w.org.x;
+            const int axis[3] = {w.kx, w.ky, w.kz};
+            const simd::Corners<Arch> k = simd::make_corners<Arch>([&](int c, int slot) {
+                const std::size_t row = std::size_t(3 * c + axis[slot]);
+                const __m512 a = _mm512_maskz_loadu_ps(a_lanes, rows + row * std::size_t(count));
+                return B(_mm512_mask_expandloadu_ps(a, b_lanes, rows_b + row * std::size_t(count_b))) -
+                       B(o[axis[slot]]);
+            });
+            out.mask = simd::watertight_core<Arch>(k, B(w.sx), B(w.sy), B(w.sz), B(w.tnear), B(w.tfar),
+                                                   (1u << (count + count_b)) - 1u, out, 0);
+        } else {
+            join_leaves(w, rows, count, rows_b, count_b, out, leaf);
+        }
     }
 };
 

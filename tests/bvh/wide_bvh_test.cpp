@@ -102,7 +102,7 @@ void check_subtree(const bvh::WideBvh& b, const Scene& scene, std::uint32_t ref,
         }
         return;
     }
-    const bvh::WideNode& node = b.nodes[ref];
+    const bvh::WideNode& node = b.nodes[bvh::node_index(ref)];
     int children = 0;
     for (int c = 0; c < bvh::kWidth; ++c) {
         if (node.child[c] == bvh::kEmpty) continue;
@@ -114,6 +114,8 @@ void check_subtree(const bvh::WideBvh& b, const Scene& scene, std::uint32_t ref,
         check_subtree(b, scene, node.child[c], child, max_leaf, seen);
     }
     EXPECT_GE(children, 2);
+    EXPECT_EQ(children, bvh::node_children(ref));  // the reference says how many, and they come first
+    for (int c = children; c < bvh::kWidth; ++c) EXPECT_EQ(node.child[c], bvh::kEmpty);
 }
 
 }  // namespace
