@@ -185,7 +185,7 @@ void order_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, 
     std::uint64_t any = 0, all = ~std::uint64_t{0};
     for (const auto& s : seen) any |= s[0], all &= s[1];
     const int top = std::bit_width(any ^ all);
-    const int digit_bits = top_bits(n);
+    const int digit_bits = ordering == Ordering::sorted ? top_bits(n) : std::min(top_bits(n), kMaxBucketOrderBits);
     const std::size_t buckets = std::size_t{1} << digit_bits;
     const int shift = std::max(0, top - digit_bits);
     const auto digit = [&](std::size_t i) { return std::size_t((layout.value(word(i)) >> shift) & (buckets - 1)); };

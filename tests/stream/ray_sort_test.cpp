@@ -96,7 +96,7 @@ TEST(StreamRaySort, TheBucketPassOrdersByTheKeysTopDigitAndKeepsTheInputOrderWit
         std::uint32_t any = 0, all = ~0u;
         for (const std::uint32_t k : keys) any |= k, all &= k;
         const int top = std::bit_width(any ^ all);
-        const int digit = std::clamp(int(std::bit_width(n)) - 8, 1, 14);
+        const int digit = std::clamp(int(std::bit_width(n)) - 8, 1, kMaxBucketOrderBits);
         const int shift = std::max(0, top - digit);
         for (int parts : {1, 2}) {
             std::vector<std::uint32_t> order(n), sorted(n);
