@@ -19,6 +19,11 @@
 //   <scene>/diffuse_single  diffuse bounces (one closest-hit ray per primary hit) one by one, by origin cell (per ray)
 //   <scene>/diffuse_bvh     the same through the wide BVH, by origin cell (per ray)
 //   <scene>/diffuse_bvh_shuffled  the same in the shuffled order (per ray)
+//   <scene>/shadow_bvh_packets    shadow rays to the default light in their 4x4 packets, input order: the
+//                                 wide BVH's packet walk (bvh::occluded_packet; per ray)
+//   <scene>/shadow_bvh_rays       the same rays one by one through the wide BVH (per ray)
+//   <scene>/shadow_mlrta          the same packets by the mlrta engine's tiles of beams (the paper's
+//                                 method: MlrtaExperimental::shadow_bvh off; per ray)
 //   <scene>/embree_ao_shuffled    Embree's rtcOccluded1 (incoherent context) on bvh_shuffled's rays: the
 //                                 anchor's single-ray kernel on the same inputs, per ray
 //   <scene>/embree_diffuse_shuffled  Embree's rtcIntersect1 on diffuse_bvh_shuffled's rays (per ray)
@@ -45,9 +50,11 @@
 #include <vector>
 
 #include "beamtrace/kdtree.hpp"
+#include "beamtrace/mlrta.hpp"
 #include "beamtrace/stream.hpp"
 #include "common/access.hpp"
 #include "bvh/wide_bvh.hpp"
+#include "bvh/wide_bvh_packet.hpp"
 #include "kdtree/ray_traversal.hpp"
 #include "stream/group_traversal.hpp"
 #include "stream/radix_sort.hpp"
@@ -336,6 +343,92 @@ void embree_rays(benchmark::State& state, const KdTree& tree, const std::vector<
     per_ray(state, 1);
 }
 
+// Shadow rays to the default light in their 4x4 pixel packets (input order, coherent): the packet
+// walk of the wide BVH (bvh::occluded_packet), the same packets' rays one by one through it, and the
+// mlrta engine's packets, per ray.
+struct ShadowCase {
+    std::string error;
+    std::optional<KdTree> tree;
+    std::vector<Packet16> packets;
+    int columns = 0, rows = 0;  // the packets' image
+    std::size_t rays = 0;
+};
+
+ShadowCase& shadow_case(const std::string& name) {
+    static std::map<std::string, std::unique_ptr<ShadowCase>> cache;
+    auto& slot = cache[name];
+    if (slot) return *slot;
+    slot = std::make_unique<ShadowCase>();
+    ShadowCase& c = *slot;
+    const std::optional<std::string> spec = bench::scene_spec(name, c.error);
+    if (!spec) return c;
+    workload::WorkloadConfig config;
+    config.scene = *spec;
+    config.mode = workload::Mode::shadow;
+    config.width = config.height = image_size();
+    const workload::Workload w = workload::make_workload(config);
+    c.packets = w.rays.packets;
+    c.columns = w.rays.packets_x;
+    c.rows = w.rays.packets_y;
+    c.rays = w.rays.ray_count;
+    c.tree.emplace(KdTree::build(w.source.scene));
+    return c;
+}
+
+void bm_shadow_packets(benchmark::State& state, const std::string& name, int how) {
+    ShadowCase& c = shadow_case(name);
+    if (!c.error.empty()) return state.SkipWithError(c.error.c_str());
+    const bvh::WideBvh& b = wide_bvh(*c.tree, bvh::WideBvhSettings{}.max_leaf_triangles);
+    const bvh::WideBvhKernels& k = bvh::wide_bvh_kernels();
+    std::vector<std::uint32_t> out(c.packets.size());
+    for (auto _ : state) {
+        for (std::size_t i = 0; i < c.packets.size(); ++i) {
+            const Packet16& p = c.packets[i];
+            std::uint32_t bits = 0;
+            if (how == 0) {
+                bits = bvh::occluded_packet(b, p, k.isa);
+            } else {
+                for (std::uint32_t m = p.active & 0xFFFFu; m != 0; m &= m - 1)
+                    if (k.occluded(b, p.ray(__builtin_ctz(m))).hit()) bits |= 1u << __builtin_ctz(m);
+            }
+            out[i] = bits;
+        }
+        benchmark::DoNotOptimize(out.data());
+    }
+    per_ray(state, c.rays);
+    std::size_t occluded = 0;
+    for (const std::uint32_t o : out) occluded += std::size_t(__builtin_popcount(o));
+    state.counters["occluded"] = double(occluded) / double(c.rays);
+    QueryCounters counters;
+    for (const Packet16& p : c.packets) {
+        if (how == 0) {
+            bvh::occluded_packet(b, p, k.isa, &counters);
+        } else {
+            for (std::uint32_t m = p.active & 0xFFFFu; m != 0; m &= m - 1)
+                k.occluded_counted(b, p.ray(__builtin_ctz(m)), &counters);
+        }
+    }
+    const double n = double(c.packets.size());
+    state.counters["nodes_per_packet"] = double(counters.inner_steps + counters.packet_steps) / n;
+    state.counters["leaves_per_packet"] = double(counters.leaves) / n;
+    state.counters["tests_per_packet"] = double(counters.triangle_tests) / n;
+}
+
+void bm_shadow_mlrta(benchmark::State& state, const std::string& name) {
+    ShadowCase& c = shadow_case(name);
+    if (!c.error.empty()) return state.SkipWithError(c.error.c_str());
+    MlrtaSettings settings;
+    settings.experimental.shadow_bvh = false;  // the paper's tiles of beams
+    const Mlrta engine(*c.tree, settings);
+    const PacketGrid grid{c.packets.data(), c.columns, c.rows};
+    std::vector<std::uint32_t> out(c.packets.size());
+    for (auto _ : state) {
+        engine.occluded(grid, out);
+        benchmark::DoNotOptimize(out.data());
+    }
+    per_ray(state, c.rays);
+}
+
 void bm_bvh(benchmark::State& state, const std::string& name, bool sorted) {
     StreamCase& c = stream_case(name);
     if (!usable(state, c)) return;
@@ -461,6 +554,9 @@ void register_benchmarks() {
         reg("bvh_sorted", [name](benchmark::State& s) { bm_bvh(s, name, true); });
         reg("bvh_shuffled", [name](benchmark::State& s) { bm_bvh(s, name, false); });
         reg("stream", [name](benchmark::State& s) { bm_stream(s, name); });
+        reg("shadow_bvh_packets", [name](benchmark::State& s) { bm_shadow_packets(s, name, 0); });
+        reg("shadow_bvh_rays", [name](benchmark::State& s) { bm_shadow_packets(s, name, 1); });
+        reg("shadow_mlrta", [name](benchmark::State& s) { bm_shadow_mlrta(s, name); });
         reg("embree_ao_shuffled", [name](benchmark::State& s) {
             StreamCase& c = stream_case(name);
             if (usable(s, c)) embree_rays(s, *c.tree, c.rays, true);

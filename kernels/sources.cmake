@@ -56,6 +56,7 @@ foreach(source
     vlf/vlf_kernels.cpp
     vlf/build/dynamic_update.cpp
     bvh/wide_bvh_builder.cpp
+    bvh/wide_bvh_packet.cpp
     bvh/wide_bvh_traversal.cpp
     stream/ray_keys.cpp
     stream/radix_sort.cpp

@@ -59,6 +59,13 @@ struct MlrtaExperimental {
     // with a minimum tile of at least xp_packets packets (MlrtaSettings::min_tile >= 4 *
     // xp_packets; the default 32 with 4).
     int xp_packets = 4;
+    // Occlusion packets (shadow rays) through a wide BVH that the engine builds on its first
+    // occlusion query (or Mlrta::prepare_occlusion), walked by a whole packet at once (interval
+    // bounds of the packet, or of its rays from their far ends back, then each ray's slab test),
+    // instead of the kd-tree's tiles of beams: beyond the paper; a BVH's tight boxes let lit shadow
+    // rays pass where a kd-tree's cells make them test every triangle they cross (docs/mlrta.md,
+    // "Shadow packets through a wide BVH"). Off: the paper's method. The same answers.
+    bool shadow_bvh = true;
 };
 
 }  // namespace beamtrace

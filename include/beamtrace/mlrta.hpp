@@ -78,6 +78,9 @@ public:
                   const QueryOptions& options = {}) const;
 
     const MlrtaSettings& settings() const;
+    // Builds now what occlusion queries use (the wide BVH of MlrtaExperimental::shadow_bvh), instead
+    // of at the first one; nothing when that is off. Thread-safe; memory_bytes() counts it once built.
+    void prepare_occlusion() const;
     const KdTree& tree() const;
     std::size_t memory_bytes()
         const;  // MLRTA's own tables (subtree sizes, covered-leaf flags) and the tree's packet tables

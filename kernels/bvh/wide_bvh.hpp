@@ -97,6 +97,8 @@ public:
     // n floats apart, as TriangleKernels::ray_rows reads them (stride n); 16 floats of padding end
     // the array, so every row is readable 16 floats on. A leaf is a few consecutive cache lines.
     std::vector<float> rows;
+    Box bounds;        // of the triangles in leaves
+    float pad = 0.0f;  // the scene's scale * 2^-20 (kdtree::LaneBoxRays::pad: boxes widened by it)
     WideBvhStats stats;
 
 private:
@@ -107,12 +109,21 @@ private:
 // Closest hit (kOcclusion false) or any hit of one ray, exactly as the kd-tree's single-ray traversal
 // answers (the same watertight test: the same t; at equal t another triangle may be the one found);
 // counters (may be null in the plain forms) count rays, inner_steps, leaves and triangle_tests.
+struct PacketBounds;
+
 struct WideBvhKernels {
     Isa isa;
     Hit (*intersect)(const WideBvh& bvh, const Ray& ray);
     Hit (*occluded)(const WideBvh& bvh, const Ray& ray);
     Hit (*intersect_counted)(const WideBvh& bvh, const Ray& ray, QueryCounters* counters);
     Hit (*occluded_counted)(const WideBvh& bvh, const Ray& ray, QueryCounters* counters);
+    // The children of a node a packet's interval bounds may meet (wide_bvh_packet.hpp;
+    // packet_node_reference is the scalar form).
+    std::uint32_t (*packet_node)(const PacketBounds& bounds, const WideNode& node, int children);
+    // A packet's interval bounds (packet_bounds_reference).
+    bool (*packet_bounds)(const Packet16& packet, std::uint32_t lanes, const float* const inv[3], PacketBounds& bounds);
+    // The same test on the boxes of a leaf's triangles (packet_leaf_reference).
+    std::uint32_t (*packet_leaf)(const PacketBounds& bounds, const float* block, int count);
 };
 
 const WideBvhKernels& wide_bvh_kernels(Isa isa);

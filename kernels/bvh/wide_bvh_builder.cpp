@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <new>
@@ -255,12 +256,17 @@ public:
         auto bvh = std::make_shared<WideBvh>();
         const std::uint32_t n = std::uint32_t(prims.size());
         if (n > 0) {
+            bvh->bounds = range_box(prims.data(), 0, n);
+            float scale = bvh->bounds.diagonal();
+            for (int k = 0; k < 3; ++k)
+                scale = std::max({scale, std::fabs(bvh->bounds.lower[k]), std::fabs(bvh->bounds.upper[k])});
+            bvh->pad = std::ldexp(scale, -20);
             if (n <= std::uint32_t(settings.max_leaf_triangles)) {
                 bvh->root = make_leaf(0, n);
                 bvh->stats.leaves = 1;
             } else {
                 Builder builder(prims, settings);
-                const std::unique_ptr<BuildNode> top = builder.build(0, n, 0, range_box(prims.data(), 0, n));
+                const std::unique_ptr<BuildNode> top = builder.build(0, n, 0, bvh->bounds);
                 int depth = 0;
                 const std::uint32_t count = count_nodes(*top, 1, depth);
                 if (depth > WideBvh::kMaxDepth)

@@ -12,6 +12,7 @@
 
 #include "beamtrace/query.hpp"
 #include "bvh/wide_bvh.hpp"
+#include "bvh/wide_bvh_packet.hpp"
 #include "common/ray_validity.hpp"
 #include "common/triangle_kernels.hpp"
 #include "common/watertight_ray.hpp"
@@ -80,6 +81,15 @@ void join_leaves(const WatertightRay& w, const float* rows, int count, const flo
 // The reference policy.
 struct ScalarLanes {
     using Prepared = BoxRay;
+    static std::uint32_t packet_node(const PacketBounds& b, const WideNode& n, int children) {
+        return packet_node_reference(b, n, children);
+    }
+    static std::uint32_t packet_leaf(const PacketBounds& b, const float* block, int count) {
+        return packet_leaf_reference(b, block, count);
+    }
+    static bool packet_bounds(const Packet16& p, std::uint32_t lanes, const float* const inv[3], PacketBounds& b) {
+        return packet_bounds_reference(p, lanes, inv, b);
+    }
     static BoxRay prepare(const BoxRay& r) { return r; }
 
     // Bit c set when child c (< children, the node's count) meets [tnear, tfar]; dist[c] its
@@ -247,7 +257,8 @@ struct WideBvhTable {
         return traverse_wide<Lanes, kOcclusion, true>(bvh, ray, c);
     }
     static constexpr WideBvhKernels make(Isa isa) {
-        return WideBvhKernels{isa, plain<false>, plain<true>, counted<false>, counted<true>};
+        return WideBvhKernels{isa,           plain<false>,       plain<true>,          counted<false>,
+                              counted<true>, Lanes::packet_node, Lanes::packet_bounds, Lanes::packet_leaf};
     }
 };
 

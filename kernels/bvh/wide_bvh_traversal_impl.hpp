@@ -64,6 +64,111 @@ struct SimdLanes {
         return bits;
     }
 
+    // The interval test of packet_node_reference on kLanes boxes (lower, upper per axis).
+    [[gnu::always_inline]] static std::uint32_t interval_bits(const PacketBounds& b, const B* lower, const B* upper) {
+        B entry(b.tnear), exit(b.tfar);
+        for (int a = 0; a < 3; ++a) {
+            const B& near_plane = b.upper_first[a] ? upper[a] : lower[a];
+            const B& far_plane = b.upper_first[a] ? lower[a] : upper[a];
+            const B lo(b.inv_lo[a]), hi(b.inv_hi[a]);
+            const B n0 = near_plane - B(b.org_hi[a]), n1 = near_plane - B(b.org_lo[a]);
+            const B f0 = far_plane - B(b.org_hi[a]), f1 = far_plane - B(b.org_lo[a]);
+            const B near_min = xsimd::min(xsimd::min(n0 * lo, n0 * hi), xsimd::min(n1 * lo, n1 * hi));
+            const B far_max = xsimd::max(xsimd::max(f0 * lo, f0 * hi), xsimd::max(f1 * lo, f1 * hi));
+            entry = xsimd::max(entry, near_min);
+            exit = xsimd::min(exit, far_max);
+        }
+        const B slack(kBoxSlack);
+        return simd::lane_bits<Arch>(entry - xsimd::abs(entry) * slack <= exit + xsimd::abs(exit) * slack);
+    }
+
+    // packet_node_reference's operations, kLanes children at a time.
+    static std::uint32_t packet_node(const PacketBounds& b, const WideNode& n, int children) {
+        std::uint32_t bits = 0;
+        const float* planes = &n.lower[0][0];
+        for (int base = 0; base < children; base += kLanes) {
+            B lower[3], upper[3];
+            for (int a = 0; a < 3; ++a) {
+                lower[a] = B::load_aligned(planes + std::size_t(a) * kWidth + base);
+                upper[a] = B::load_aligned(planes + std::size_t(3 + a) * kWidth + base);
+            }
+            bits |= interval_bits(b, lower, upper) << base;
+        }
+        return bits;
+    }
+
+    // packet_leaf_reference: the boxes of a leaf's triangles (count <= 16, its corner block) by the
+    // same test; on AVX-512 one register (masked loads), elsewhere through a node of their boxes.
+    static std::uint32_t packet_leaf(const PacketBounds& b, const float* block, int count) {
+        if constexpr (kLanes == 16) {
+            const __mmask16 lanes = __mmask16((1u << count) - 1u);
+            B lower[3], upper[3];
+            for (int a = 0; a < 3; ++a) {
+                const B c0(_mm512_maskz_loadu_ps(lanes, block + std::size_t(a) * std::size_t(count)));
+                const B c1(_mm512_maskz_loadu_ps(lanes, block + std::size_t(3 + a) * std::size_t(count)));
+                const B c2(_mm512_maskz_loadu_ps(lanes, block + std::size_t(6 + a) * std::size_t(count)));
+                lower[a] = xsimd::min(xsimd::min(c0, c1), c2);
+                upper[a] = xsimd::max(xsimd::max(c0, c1), c2);
+            }
+            return interval_bits(b, lower, upper) & ((1u << count) - 1u);
+        } else {
+            return packet_leaf_reference(b, block, count);
+        }
+    }
+
+    // packet_bounds_reference: on AVX-512 the 16 lanes in one register each (lanes not in `lanes`
+    // take the first live lane's values, then reductions), elsewhere the reference.
+    static bool packet_bounds(const Packet16& p, std::uint32_t lanes, const float* const inv[3], PacketBounds& b) {
+        if constexpr (kLanes == 16) {
+            if (lanes == 0) return false;
+            const __mmask16 live = __mmask16(lanes);
+            const __m512i first = _mm512_set1_epi32(__builtin_ctz(lanes));
+            // Dead lanes take the first live lane's value: no minimum or maximum changes.
+            const auto load = [&](const float* v) {
+                const __m512 x = _mm512_loadu_ps(v);
+                return B(_mm512_mask_blend_ps(live, _mm512_permutexvar_ps(first, x), x));
+            };
+            const auto lowest = [](const B& x) { return _mm512_reduce_min_ps(x); };
+            const auto highest = [](const B& x) { return _mm512_reduce_max_ps(x); };
+            const B tn = load(p.tnear), tf = load(p.tfar);
+            PacketBounds f, r;
+            f.tnear = lowest(tn);
+            f.tfar = highest(tf);
+            r.tnear = 0.0f;
+            r.tfar = highest((tf - tn) * B(1.0f + kBoxSlack));
+            bool finite = std::isfinite(r.tfar);
+            const float* org[3] = {p.org_x, p.org_y, p.org_z};
+            const float* dir[3] = {p.dir_x, p.dir_y, p.dir_z};
+            for (int a = 0; a < 3; ++a) {
+                const B v = load(inv[a]), o = load(org[a]), d = load(dir[a]);
+                const float ilo = lowest(v), ihi = highest(v);
+                if (!(std::isfinite(ilo) && std::isfinite(ihi) && (ilo > 0.0f || ihi < 0.0f))) return false;
+                const B step = tf * d;
+                const B end = o + step;
+                const B err = (xsimd::abs(o) + B(2.0f) * xsimd::abs(step)) * B(1.0f / 4194304.0f);
+                const float elo = lowest(end - err), ehi = highest(end + err);
+                f.upper_first[a] = ihi < 0.0f;
+                r.upper_first[a] = !f.upper_first[a];
+                f.inv_lo[a] = ilo;
+                f.inv_hi[a] = ihi;
+                r.inv_lo[a] = -ihi;
+                r.inv_hi[a] = -ilo;
+                f.org_lo[a] = lowest(o);
+                f.org_hi[a] = highest(o);
+                r.org_lo[a] = elo;
+                r.org_hi[a] = ehi;
+                finite = finite && std::isfinite(elo) && std::isfinite(ehi);
+            }
+            const auto spread = [](const PacketBounds& q) {
+                return (q.org_hi[0] - q.org_lo[0]) + (q.org_hi[1] - q.org_lo[1]) + (q.org_hi[2] - q.org_lo[2]);
+            };
+            b = finite && spread(r) < spread(f) ? r : f;
+            return true;
+        } else {
+            return packet_bounds_reference(p, lanes, inv, b);
+        }
+    }
+
     static void leaf(const WatertightRay& w, const float* rows, std::size_t stride, std::uint32_t first, int count,
                      LaneHits& out) {
         simd::ray_rows<Arch>(w, rows, stride, first, count, out);

@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include "beamtrace/error.hpp"
+#include "bvh/wide_bvh_packet.hpp"
 #include "common/query_runner.hpp"
 #include "common/ray_packing.hpp"
 #include "kdtree/ray_traversal.hpp"
@@ -24,7 +25,8 @@ void MlrtaSettings::validate() const {
         fail("min_tile must be a multiple of 4 between 4 and initial_tile");
     if (split_factor != 4 && split_factor != 16) fail("split_factor must be 4 or 16");
     const int xp = experimental.xp_packets;
-    if (xp != 1 && xp != 2 && xp != 4) fail("experimental.xp_packets must be 1, 2 or 4 (packets per side traced together)");
+    if (xp != 1 && xp != 2 && xp != 4)
+        fail("experimental.xp_packets must be 1, 2 or 4 (packets per side traced together)");
 }
 
 Mlrta::Impl::Impl(const KdTree& t, const MlrtaSettings& s)
@@ -40,11 +42,25 @@ Mlrta::Mlrta(const KdTree& tree, const MlrtaSettings& settings) {
     impl_ = std::move(impl);
 }
 
+const bvh::WideBvh& Mlrta::Impl::wide_bvh() const {
+    std::call_once(bvh_once, [this] {
+        bvh = bvh::WideBvh::build(kd().scene);
+        bvh_made.store(bvh.get(), std::memory_order_release);
+    });
+    return *bvh;
+}
+
+void Mlrta::prepare_occlusion() const {
+    if (impl_->settings.experimental.shadow_bvh) impl_->wide_bvh();
+}
+
 const MlrtaSettings& Mlrta::settings() const { return impl_->settings; }
 const KdTree& Mlrta::tree() const { return impl_->tree; }
 std::size_t Mlrta::memory_bytes() const {
+    const bvh::WideBvh* made = impl_->bvh_made.load(std::memory_order_acquire);  // only once built
+    const std::size_t bvh_bytes = made ? made->stats.memory_bytes : 0;
     return impl_->subtree_nodes.size() * sizeof(std::uint32_t) + impl_->covered_leaf.size() +
-           impl_->tree.packet_table_bytes();
+           impl_->tree.packet_table_bytes() + bvh_bytes;
 }
 
 namespace {
@@ -53,6 +69,22 @@ void check_grid(const PacketGrid& grid, std::size_t answers, const QueryOptions&
     if (grid.columns < 0 || grid.rows < 0 || (grid.packets == nullptr && grid.columns * grid.rows > 0))
         throw Error(std::string(what) + ": the packet grid is inconsistent (negative size or no packets)");
     check_query(what, std::size_t(grid.columns) * std::size_t(grid.rows), answers, options);
+}
+
+// Occlusion packets through the wide BVH (MlrtaExperimental::shadow_bvh), packet by packet on the
+// options' threads; counters: packets, packet_steps (nodes), leaves and triangle tests.
+void occluded_through_bvh(const Mlrta::Impl& m, const Packet16* packets, std::size_t n, std::uint32_t* occluded,
+                          const QueryOptions& options) {
+    const bvh::WideBvh& b = m.wide_bvh();
+    const Isa isa = m.kd().kernels->isa;
+    run_query(n, options, 64, [&](std::size_t begin, std::size_t end, QueryCounters* c) {
+        for (std::size_t k = begin; k < end; ++k) {
+            if (k + 2 < end)
+                for (std::size_t line = 0; line < sizeof(Packet16); line += 64)
+                    __builtin_prefetch(reinterpret_cast<const char*>(&packets[k + 2]) + line);
+            occluded[k] = bvh::occluded_packet(b, packets[k], isa, c);
+        }
+    });
 }
 
 template <bool kOcclusion>
@@ -157,6 +189,9 @@ void Mlrta::intersect(const PacketGrid& grid, std::span<PacketHits16> hits, cons
 
 void Mlrta::occluded(const PacketGrid& grid, std::span<std::uint32_t> occluded, const QueryOptions& options) const {
     check_grid(grid, occluded.size(), options, "Mlrta::occluded");
+    if (impl_->settings.experimental.shadow_bvh)
+        return occluded_through_bvh(*impl_, grid.packets, std::size_t(grid.columns) * std::size_t(grid.rows),
+                                    occluded.data(), options);
     run_tiles<true>(*impl_, grid, nullptr, occluded.data(), options, {});
 }
 
@@ -182,6 +217,8 @@ void Mlrta::intersect(std::span<const Packet16> packets, std::span<PacketHits16>
 void Mlrta::occluded(std::span<const Packet16> packets, std::span<std::uint32_t> occluded,
                      const QueryOptions& options) const {
     check_query("Mlrta::occluded", packets.size(), occluded.size(), options);
+    if (impl_->settings.experimental.shadow_bvh)
+        return occluded_through_bvh(*impl_, packets.data(), packets.size(), occluded.data(), options);
     trace_packets<true>(*impl_, packets, nullptr, occluded.data(), options);
 }
 

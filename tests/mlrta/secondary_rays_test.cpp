@@ -17,7 +17,9 @@ const KdTree& room() {
     return tree;
 }
 
-// The settings to cover: split factor, tile sizes, frustum test, search order, triangle culling.
+// The settings to cover: split factor, tile sizes, frustum test, search order, triangle culling
+// (occlusion by the paper's tiles of beams), and then occlusion packets through the wide BVH
+// (MlrtaExperimental::shadow_bvh, the default).
 std::vector<MlrtaSettings> settings_list() {
     std::vector<MlrtaSettings> out;
     for (int sf : {4, 16})
@@ -33,8 +35,10 @@ std::vector<MlrtaSettings> settings_list() {
                         s.experimental.ep_search = order;
                         s.experimental.triangle_culling = out.size() % 3 == 1;  // mixed in, not a full product
                         s.experimental.stop_when_stuck = out.size() % 5 != 0;
+                        s.experimental.shadow_bvh = false;
                         out.push_back(s);
                     }
+    out.push_back(MlrtaSettings{});
     return out;
 }
 

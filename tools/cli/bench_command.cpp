@@ -192,6 +192,10 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_flag("--mlrta-ep-resume,!--no-mlrta-ep-resume", args->mlrta.experimental.ep_resume,
                   "mlrta: a sub-tile's entry-point search starts at the first potential leaf its parent's search found "
                   "(default on; off: from the parent's entry point, as in the paper)");
+    cmd->add_flag("--mlrta-shadow-bvh,!--no-mlrta-shadow-bvh", args->mlrta.experimental.shadow_bvh,
+                  "mlrta: shadow (occlusion) packets walk a wide BVH the engine builds for them, a packet at a time "
+                  "(default on, beyond the paper; off: tiles of beams through the kd-tree, the paper's method; the "
+                  "same answers)");
     cmd->add_flag("--mlrta-stuck-stop,!--no-mlrta-stuck-stop", args->mlrta.experimental.stop_when_stuck,
                   "mlrta: stop splitting a tile whose entry point is its parent's (default on; off: the paper's "
                   "schedule, split down to the minimum tile size)");

@@ -19,7 +19,8 @@ nlohmann::json mlrta_settings_json(const MlrtaSettings& s) {
             {"ep_resume", x.ep_resume},
             {"stuck_stop", x.stop_when_stuck},
             {"stuck_retry", x.retry_stuck},
-            {"xp_packets", x.xp_packets}};
+            {"xp_packets", x.xp_packets},
+            {"shadow_bvh", x.shadow_bvh}};
 }
 
 namespace {
@@ -33,7 +34,17 @@ public:
         mlrta_ = std::make_unique<Mlrta>(*tree_, options.mlrta);
         tables_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
-    // The tree and MLRTA's tables over it (subtree sizes, covered leaves, the tree's packet tables).
+    // Occlusion rays: the wide BVH of MlrtaExperimental::shadow_bvh, built here and counted as build
+    // time (the library builds it at the first occlusion query otherwise).
+    void prepare(const RaySet& rays) override {
+        if (closest_hit(rays.mode) || bvh_prepared_) return;
+        const auto start = std::chrono::steady_clock::now();
+        mlrta_->prepare_occlusion();
+        tables_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        bvh_prepared_ = true;
+    }
+    // The tree and MLRTA's tables over it (subtree sizes, covered leaves, the tree's packet tables;
+    // the wide BVH of shadow packets when occlusion rays were prepared).
     double build_seconds() const override { return tree_->stats().build_seconds + tables_seconds_; }
     std::size_t memory_bytes() const override { return tree_->stats().bytes + mlrta_->memory_bytes(); }
 
@@ -81,6 +92,7 @@ private:
     }
 
     double tables_seconds_ = 0.0;
+    bool bvh_prepared_ = false;
     std::unique_ptr<KdTree> tree_;
     std::unique_ptr<Mlrta> mlrta_;
 };

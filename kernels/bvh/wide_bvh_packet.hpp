@@ -1,0 +1,57 @@
+#pragma once
+// Occlusion of a coherent packet of 16 rays (shadow rays of a 4x4 pixel block towards a light)
+// through the wide BVH, the packet walking together: beyond the papers this project follows (MLRTA
+// traces shadows through its kd-tree; docs/mlrta.md, "Shadow packets through the wide BVH").
+//
+// A node's children are tested against the packet's interval bounds (per axis the range of the
+// origins and of the reciprocal directions, one sign for every ray: the paper's test (2) in interval
+// arithmetic, here 32 boxes a node at once); a leaf's box then against each live ray
+// (kdtree::PacketKernels::lane_box) and its triangles against the rays that meet it, 16 lanes a
+// triangle (TriangleKernels::packet_x1, the watertight test every engine uses). Both box tests only
+// ever keep too much, never too little, so a ray is occluded exactly when its single-ray walk says
+// so. A packet whose rays do not share the signs of their directions, or with a direction component
+// that is zero or not finite, goes ray by ray.
+#include <cstdint>
+
+#include "beamtrace/query.hpp"
+#include "beamtrace/ray.hpp"
+#include "bvh/wide_bvh.hpp"
+
+namespace beamtrace::bvh {
+
+// The interval bounds of a packet's live rays: per axis the origins' and the reciprocal
+// directions' ranges (the reciprocals all of one sign; upper_first when negative), the smallest
+// start and the largest end of the segments.
+struct PacketBounds {
+    float org_lo[3], org_hi[3], inv_lo[3], inv_hi[3];
+    bool upper_first[3];
+    float tnear = 0, tfar = 0;
+};
+
+// The bounds of the rays org + t dir, t in [tnear, tfar], or of the same rays from their far ends
+// back (e - s dir, s in [0, tfar - tnear], the ends widened by far more than their rounding), the
+// one whose origins spread less: shadow rays towards a light share their far end. inv: the lanes'
+// reciprocal directions (kdtree::LaneBoxRays::inv). False when the lanes cannot be bounded so (a
+// sign differs, a component is 0 or not finite). The reference of WideBvhKernels::packet_bounds (the
+// same values: minima and maxima are exact, each lane's end and widening the same operations).
+bool packet_bounds_reference(const Packet16& p, std::uint32_t lanes, const float* const inv[3], PacketBounds& out);
+
+// Bit c set when child c (< children) of the node may meet a ray the bounds hold: per axis the
+// near and far distances' extremes over the four corners of (plane - origin range) x (reciprocal
+// range), entry the largest near extreme and tnear, exit the smallest far extreme and tfar, kept
+// when entry - |entry| kBoxSlack <= exit + |exit| kBoxSlack. The reference of
+// WideBvhKernels::packet_node (the same operations in the same order).
+std::uint32_t packet_node_reference(const PacketBounds& b, const WideNode& n, int children);
+
+// Bit i set when triangle i of a leaf (its corner block of count <= 16 triangles) has a box the
+// bounds may meet: packet_node_reference's test on the triangles' boxes. The reference of
+// WideBvhKernels::packet_leaf.
+std::uint32_t packet_leaf_reference(const PacketBounds& b, const float* block, int count);
+
+// Bit i set when active ray i of the packet is occluded: the answers of occluded() ray by ray, by the
+// kernels of `isa`. counters (may be null) count packets, packet_steps (inner nodes), leaves and
+// triangle tests (a packet and a triangle); lanes of a packet that cannot be bounded go ray by ray
+// (single_rays, and the single-ray walk's own counts).
+std::uint32_t occluded_packet(const WideBvh& bvh, const Packet16& packet, Isa isa, QueryCounters* counters = nullptr);
+
+}  // namespace beamtrace::bvh
