@@ -56,11 +56,16 @@ struct StreamSettings {
     bool wide_bvh = true;
     // With the wide BVH: a stream whose sample shows no shared point (ambient occlusion, diffuse
     // bounces: no pencils to group) is ordered by one scatter pass only, by the top digit of its keys
-    // (the rays' origin cells, up to 14 bits), instead of the whole sort, and every ray goes one by
+    // (the rays' origin cells, up to 12 bits), instead of the whole sort, and every ray goes one by
     // one through the wide BVH (beyond the papers; docs/streams.md "Streams without shared points in
     // buckets"). false: the whole sort, and rays of one origin in groups through the kd-tree. The
     // same answers.
     bool bucket_order = true;
+    // With the wide BVH: occlusion pencils (shadow rays to a point light, 16 sorted neighbours a
+    // packet) walk the wide BVH a packet at a time (bvh::occluded_packet, MLRTA's shadow packets'
+    // walk: docs/mlrta.md) instead of the kd-tree's interval traversal (beyond the papers;
+    // docs/streams.md). The same answers.
+    bool bvh_pencils = true;
 
     static constexpr int kMaxSharedPoints = 16;
 

@@ -145,30 +145,13 @@ Triangle leaf_triangle(const float* block, std::size_t count, std::size_t i) {
 
 }  // namespace
 
-std::uint32_t occluded_packet(const WideBvh& bvh, const Packet16& p, Isa isa, QueryCounters* counters) {
-    const WideBvhKernels& kernels = wide_bvh_kernels(isa);
-    const std::uint32_t active = p.active & segment_lanes(p) & 0xFFFFu;
-    if (counters) ++counters->packets;
-    if (active == 0 || bvh.root == kEmpty) return 0;
-    const kdtree::PacketKernels& packet = simd::select<kdtree::PacketKernels>(isa);
-    alignas(64) kdtree::LaneBoxRays box_rays;
-    packet.setup.box_rays(p, bvh.pad, box_rays);
-    const float* const inv[3] = {box_rays.inv[0], box_rays.inv[1], box_rays.inv[2]};
-    PacketBounds bounds;
-    if (!kernels.packet_bounds(p, active, inv, bounds)) {
-        std::uint32_t occluded = 0;
-        for (std::uint32_t m = active; m != 0; m &= m - 1) {
-            const int i = __builtin_ctz(m);
-            if (counters) ++counters->single_rays;
-            const Hit h =
-                counters ? kernels.occluded_counted(bvh, p.ray(i), counters) : kernels.occluded(bvh, p.ray(i));
-            if (h.hit()) occluded |= 1u << i;
-        }
-        return occluded;
-    }
-    const TriangleKernels& triangles = triangle_kernels(isa);
-    WatertightPacket16 w;
-    packet.setup.watertight(p, w);
+namespace {
+
+// The walk of the lanes `active` (their bounds made), as occluded_packet describes it.
+std::uint32_t walk_packet(const WideBvh& bvh, const Packet16& p, std::uint32_t active, const PacketBounds& bounds,
+                          const kdtree::LaneBoxRays& box_rays, WatertightPacket16& w, const WideBvhKernels& kernels,
+                          const kdtree::PacketKernels& packet, const TriangleKernels& triangles,
+                          QueryCounters* counters) {
     // A stack entry: a child and the live rays whose segments meet its box (the per-lane slab test,
     // made as it is pushed for each child the packet's bounds admit).
     struct Entry {
@@ -216,6 +199,55 @@ std::uint32_t occluded_packet(const WideBvh& bvh, const Packet16& p, Isa isa, Qu
             lanes &= ~hits.mask;
         }
         if ((active & ~occluded) == 0) break;
+    }
+    return occluded;
+}
+
+}  // namespace
+
+std::uint32_t occluded_packet(const WideBvh& bvh, const Packet16& p, Isa isa, QueryCounters* counters) {
+    const WideBvhKernels& kernels = wide_bvh_kernels(isa);
+    const std::uint32_t active = p.active & segment_lanes(p) & 0xFFFFu;
+    if (counters) ++counters->packets;
+    if (active == 0 || bvh.root == kEmpty) return 0;
+    const kdtree::PacketKernels& packet = simd::select<kdtree::PacketKernels>(isa);
+    alignas(64) kdtree::LaneBoxRays box_rays;
+    packet.setup.box_rays(p, bvh.pad, box_rays);
+    const float* const inv[3] = {box_rays.inv[0], box_rays.inv[1], box_rays.inv[2]};
+    const TriangleKernels& triangles = triangle_kernels(isa);
+    WatertightPacket16 w;
+    PacketBounds bounds;
+    if (kernels.packet_bounds(p, active, inv, bounds)) {
+        packet.setup.watertight(p, w);
+        return walk_packet(bvh, p, active, bounds, box_rays, w, kernels, packet, triangles, counters);
+    }
+    // The signs of the directions differ (or a component is 0 or not finite): the lanes of each
+    // octant together when there are a few and they can be bounded, the others one by one.
+    bool set_up = false;
+    std::uint32_t occluded = 0, alone = 0;
+    for (std::uint32_t left = active; left != 0;) {
+        const int f = __builtin_ctz(left);
+        const auto octant = [&](int i) {
+            return (std::signbit(inv[0][i]) ? 1 : 0) | (std::signbit(inv[1][i]) ? 2 : 0) |
+                   (std::signbit(inv[2][i]) ? 4 : 0);
+        };
+        std::uint32_t same = 0;
+        for (std::uint32_t m = left; m != 0; m &= m - 1)
+            if (octant(__builtin_ctz(m)) == octant(f)) same |= 1u << __builtin_ctz(m);
+        left &= ~same;
+        if (__builtin_popcount(same) >= 4 && kernels.packet_bounds(p, same, inv, bounds)) {
+            if (!set_up) packet.setup.watertight(p, w);
+            set_up = true;
+            occluded |= walk_packet(bvh, p, same, bounds, box_rays, w, kernels, packet, triangles, counters);
+        } else {
+            alone |= same;
+        }
+    }
+    for (std::uint32_t m = alone; m != 0; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        if (counters) ++counters->single_rays;
+        const Hit h = counters ? kernels.occluded_counted(bvh, p.ray(i), counters) : kernels.occluded(bvh, p.ray(i));
+        if (h.hit()) occluded |= 1u << i;
     }
     return occluded;
 }

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <chrono>
+#include <cstdlib>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 
 #include "beamtrace/error.hpp"
 #include "bvh/wide_bvh.hpp"
+#include "bvh/wide_bvh_packet.hpp"
 #include "common/access.hpp"
 #include "common/huge_page_allocator.hpp"
 #include "common/morton.hpp"
@@ -268,7 +270,7 @@ template <bool kOcclusion, class Out>
 class StreamTrace {
 public:
     StreamTrace(const KdTree::Impl& kd, const KdExperimental& x, const SortedStream& sorted,
-                std::uint32_t min_group_rays, bool group_loose_rays, WideBvhUse wide_bvh, Out* out)
+                std::uint32_t min_group_rays, bool group_loose_rays, bool bvh_pencils, WideBvhUse wide_bvh, Out* out)
         : kd_(kd),
           bvh_(wide_bvh),
           context_{kd, kd.packet_tables(), x.triangle_culling},
@@ -277,6 +279,7 @@ public:
           sorted_(sorted),
           min_group_rays_(min_group_rays),
           group_loose_rays_(group_loose_rays),
+          bvh_pencils_(bvh_pencils),
           window_(loose_window(sorted.rays.size())),
           out_(out),
           tolerance_(mlrta::reversal_tolerance(kd.bounds)) {}
@@ -336,6 +339,23 @@ private:
                (sorted_.sorted_keys[sorted_.groups[last].begin] >> stream::kPointShift) == point)
             ++last;
         const int n = int(last - first);
+        if constexpr (kOcclusion) {
+            if (bvh_.bvh && bvh_pencils_) {
+                // Occlusion pencils through the wide BVH, a packet at a time (bvh::occluded_packet:
+                // the packet's bounds from the rays' far ends, where they meet).
+                for (std::size_t k = first; k < last; ++k) {
+                    const RayGroup& g = sorted_.groups[k];
+                    if constexpr (kCount) {
+                        ++c->stream.pencil_packets;
+                        c->stream.pencil_rays += g.count;
+                    }
+                    const std::uint32_t bits = bvh::occluded_packet(*bvh_.bvh, packet_of(rays_ + g.begin, g.count),
+                                                                    bvh_.kernels->isa, kCount ? c : nullptr);
+                    write_lanes([&](std::uint32_t i) { return g.begin + i; }, g.count, nullptr, bits);
+                }
+                return last;
+            }
+        }
         Packet16 packets[kPencilBlock];
         const Packet16* traced[kPencilBlock] = {};
         PacketHits16 hits[kPencilBlock];
@@ -487,6 +507,7 @@ private:
     const SortedStream& sorted_;
     std::uint32_t min_group_rays_;
     bool group_loose_rays_;
+    bool bvh_pencils_;  // occlusion pencils through the wide BVH (StreamSettings::bvh_pencils)
     LooseWindow window_;
     Out* out_;  // the answers by sorted position (trace_stream writes them out in input order)
     double tolerance_;
@@ -562,7 +583,7 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, WideBvhUse wide_b
         }
     } else {
         const StreamTrace<kOcclusion, Out> trace(kd, tree.experimental(), sorted, std::uint32_t(s.min_group_rays),
-                                                 s.group_loose_rays, wide_bvh, by_position);
+                                                 s.group_loose_rays, s.bvh_pencils, wide_bvh, by_position);
         run_query(sorted.groups.size(), options, kGroupGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
             if (c)
                 trace.template groups<true>(b, e, c);

@@ -229,6 +229,9 @@ std::function<void()> add_bench_command(CLI::App& app) {
     cmd->add_flag("--stream-wide-bvh,!--no-stream-wide-bvh", args->stream.wide_bvh,
                   "stream: rays in no group (and every ray with --no-stream-sort) go through a wide BVH built for the "
                   "tracer, one by one (default on; off: the kd-tree's single-ray traversal, the same answers)");
+    cmd->add_flag("--stream-bvh-pencils,!--no-stream-bvh-pencils", args->stream.bvh_pencils,
+                  "stream: with the wide BVH, occlusion pencils (shadow rays to point lights) walk it a packet of 16 "
+                  "at a time (default on; off: the kd-tree's interval traversal, the same answers)");
     cmd->add_flag("--stream-buckets,!--no-stream-buckets", args->stream.bucket_order,
                   "stream: with the wide BVH, a stream with no shared point (ambient occlusion, diffuse bounces) is "
                   "ordered by one bucket pass instead of the whole sort and traced ray by ray through the BVH "

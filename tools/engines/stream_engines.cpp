@@ -83,6 +83,7 @@ public:
             {"group_loose_rays", tracer_->settings().group_loose_rays},
             {"wide_bvh", tracer_->settings().wide_bvh},
             {"bucket_order", tracer_->settings().bucket_order},
+            {"bvh_pencils", tracer_->settings().bvh_pencils},
             {"wide_bvh_bytes", tracer_->wide_bvh_bytes()},
             {"wide_bvh_build_seconds", tracer_->wide_bvh_build_seconds()}};
         j.update(tree_json(tree_->stats()));
