@@ -76,26 +76,11 @@ bool packet_bounds_reference(const Packet16& p, std::uint32_t lanes, const float
             elo_b = xsimd::min(elo_b, end - err);
             ehi_b = xsimd::max(ehi_b, end + err);
         }
-        const float ilo = lowest(ilo_b), ihi = highest(ihi_b), olo = lowest(olo_b), ohi = highest(ohi_b);
-        const float elo = lowest(elo_b), ehi = highest(ehi_b);
-        // One sign, no zero, finite: [ilo, ihi] on one side of 0 (an infinite or NaN reciprocal fails).
-        if (!(std::isfinite(ilo) && std::isfinite(ihi) && (ilo > 0.0f || ihi < 0.0f))) return false;
-        f.upper_first[a] = ihi < 0.0f;
-        r.upper_first[a] = !f.upper_first[a];
-        f.inv_lo[a] = ilo;
-        f.inv_hi[a] = ihi;
-        r.inv_lo[a] = -ihi;  // the reversed rays' reciprocals: the negated ones (exact), mirrored
-        r.inv_hi[a] = -ilo;
-        f.org_lo[a] = olo;
-        f.org_hi[a] = ohi;
-        r.org_lo[a] = elo;
-        r.org_hi[a] = ehi;
-        finite = finite && std::isfinite(elo) && std::isfinite(ehi);
+        if (!set_axis_bounds(a, lowest(ilo_b), highest(ihi_b), lowest(olo_b), highest(ohi_b), lowest(elo_b),
+                             highest(ehi_b), f, r, finite))
+            return false;
     }
-    const auto spread = [](const PacketBounds& q) {
-        return (q.org_hi[0] - q.org_lo[0]) + (q.org_hi[1] - q.org_lo[1]) + (q.org_hi[2] - q.org_lo[2]);
-    };
-    b = finite && spread(r) < spread(f) ? r : f;
+    b = tighter_bounds(f, r, finite);
     return true;
 }
 

@@ -11,6 +11,7 @@
 // ever keep too much, never too little, so a ray is occluded exactly when its single-ray walk says
 // so. A packet whose rays do not share the signs of their directions, or with a direction component
 // that is zero or not finite, goes ray by ray.
+#include <cmath>
 #include <cstdint>
 
 #include "beamtrace/query.hpp"
@@ -35,6 +36,34 @@ struct PacketBounds {
 // sign differs, a component is 0 or not finite). The reference of WideBvhKernels::packet_bounds (the
 // same values: minima and maxima are exact, each lane's end and widening the same operations).
 bool packet_bounds_reference(const Packet16& p, std::uint32_t lanes, const float* const inv[3], PacketBounds& out);
+
+// The forward (f) and reversed (r) bounds' axis a from the lanes' extremes: reciprocals [ilo, ihi],
+// origins [olo, ohi], widened far ends [elo, ehi]. False when the reciprocals are not all of one
+// sign and finite; `finite` becomes false when a far end is not finite.
+inline bool set_axis_bounds(int a, float ilo, float ihi, float olo, float ohi, float elo, float ehi, PacketBounds& f,
+                            PacketBounds& r, bool& finite) {
+    if (!(std::isfinite(ilo) && std::isfinite(ihi) && (ilo > 0.0f || ihi < 0.0f))) return false;
+    f.upper_first[a] = ihi < 0.0f;
+    r.upper_first[a] = !f.upper_first[a];
+    f.inv_lo[a] = ilo;
+    f.inv_hi[a] = ihi;
+    r.inv_lo[a] = -ihi;  // the reversed rays' reciprocals: the negated ones (exact), mirrored
+    r.inv_hi[a] = -ilo;
+    f.org_lo[a] = olo;
+    f.org_hi[a] = ohi;
+    r.org_lo[a] = elo;
+    r.org_hi[a] = ehi;
+    finite = finite && std::isfinite(elo) && std::isfinite(ehi);
+    return true;
+}
+
+// The reversed bounds when their ends are finite and spread less than the origins, else the forward.
+inline const PacketBounds& tighter_bounds(const PacketBounds& f, const PacketBounds& r, bool finite) {
+    const auto spread = [](const PacketBounds& q) {
+        return (q.org_hi[0] - q.org_lo[0]) + (q.org_hi[1] - q.org_lo[1]) + (q.org_hi[2] - q.org_lo[2]);
+    };
+    return finite && spread(r) < spread(f) ? r : f;
+}
 
 // Bit c set when child c (< children) of the node may meet a ray the bounds hold: per axis the
 // near and far distances' extremes over the four corners of (plane - origin range) x (reciprocal

@@ -141,28 +141,14 @@ struct SimdLanes {
             const float* dir[3] = {p.dir_x, p.dir_y, p.dir_z};
             for (int a = 0; a < 3; ++a) {
                 const B v = load(inv[a]), o = load(org[a]), d = load(dir[a]);
-                const float ilo = lowest(v), ihi = highest(v);
-                if (!(std::isfinite(ilo) && std::isfinite(ihi) && (ilo > 0.0f || ihi < 0.0f))) return false;
                 const B step = tf * d;
                 const B end = o + step;
                 const B err = (xsimd::abs(o) + B(2.0f) * xsimd::abs(step)) * B(1.0f / 4194304.0f);
-                const float elo = lowest(end - err), ehi = highest(end + err);
-                f.upper_first[a] = ihi < 0.0f;
-                r.upper_first[a] = !f.upper_first[a];
-                f.inv_lo[a] = ilo;
-                f.inv_hi[a] = ihi;
-                r.inv_lo[a] = -ihi;
-                r.inv_hi[a] = -ilo;
-                f.org_lo[a] = lowest(o);
-                f.org_hi[a] = highest(o);
-                r.org_lo[a] = elo;
-                r.org_hi[a] = ehi;
-                finite = finite && std::isfinite(elo) && std::isfinite(ehi);
+                if (!set_axis_bounds(a, lowest(v), highest(v), lowest(o), highest(o), lowest(end - err),
+                                     highest(end + err), f, r, finite))
+                    return false;
             }
-            const auto spread = [](const PacketBounds& q) {
-                return (q.org_hi[0] - q.org_lo[0]) + (q.org_hi[1] - q.org_lo[1]) + (q.org_hi[2] - q.org_lo[2]);
-            };
-            b = finite && spread(r) < spread(f) ? r : f;
+            b = tighter_bounds(f, r, finite);
             return true;
         } else {
             return packet_bounds_reference(p, lanes, inv, b);
