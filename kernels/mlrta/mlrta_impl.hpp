@@ -1,14 +1,13 @@
 #pragma once
+// Mlrta's private state: the tree, its settings, the per-node tables of the entry-point search, and
+// the context of the tree's packet traversal its tiles finish with, the wide BVH of its occlusion packets.
 #include <atomic>
 #include <memory>
 #include <mutex>
-
-#include "bvh/wide_bvh.hpp"
-// Mlrta's private state: the tree, its settings, the per-node tables of the entry-point search, and
-// the context of the tree's packet traversal its tiles finish with.
 #include <vector>
 
 #include "beamtrace/mlrta.hpp"
+#include "bvh/wide_bvh.hpp"
 #include "common/access.hpp"
 #include "kdtree/kd_node.hpp"
 #include "kdtree/packet/packet_traversal.hpp"

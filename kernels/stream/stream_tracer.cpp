@@ -6,7 +6,6 @@
 #include <bit>
 #include <cmath>
 #include <chrono>
-#include <cstdlib>
 #include <optional>
 #include <string>
 #include <vector>
