@@ -1,4 +1,5 @@
 // The animated engines' registry, and the per-time rebuild that turns any static engine into one.
+#include <algorithm>
 #include <chrono>
 #include <deque>
 
@@ -53,9 +54,14 @@ public:
                 subsets.push_back(rays_at_time(frame.shadow, frame.slot_time, t));
             }
             for (int which = 0; which < 2; ++which) {
-                const RaySet& rays =
-                    one_time ? (which == 0 ? frame.primary : frame.shadow) : subsets[subsets.size() - 2 + std::size_t(which)];
+                const RaySet& rays = one_time ? (which == 0 ? frame.primary : frame.shadow)
+                                              : subsets[subsets.size() - 2 + std::size_t(which)];
+                // What prepare() builds for these rays and counts as the engine's build (mlrta's wide
+                // BVH of occlusion packets) is build time here too; ray layouts (Embree's) are not.
+                const double built_before = engine_->build_seconds();
                 engine_->prepare(rays);
+                seconds.build += std::max(0.0, engine_->build_seconds() - built_before);
+                memory_ = std::max(memory_, engine_->memory_bytes());
                 const std::size_t variants = std::max<std::size_t>(1, engine_->timing_variants().size());
                 double best = 1e300;
                 EngineAnswers a;

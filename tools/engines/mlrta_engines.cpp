@@ -33,6 +33,7 @@ public:
         const auto start = std::chrono::steady_clock::now();
         mlrta_ = std::make_unique<Mlrta>(*tree_, options.mlrta);
         tables_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        bvh_prepared_ = false;  // a new Mlrta: its wide BVH is not built
     }
     // Occlusion rays: the wide BVH of MlrtaExperimental::shadow_bvh, built here and counted as build
     // time (the library builds it at the first occlusion query otherwise).
