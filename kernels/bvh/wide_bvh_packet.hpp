@@ -1,16 +1,19 @@
 #pragma once
-// Occlusion of a coherent packet of 16 rays (shadow rays of a 4x4 pixel block towards a light)
-// through the wide BVH, the packet walking together: beyond the papers this project follows (MLRTA
-// traces shadows through its kd-tree; docs/mlrta.md, "Shadow packets through the wide BVH").
+// Occlusion of a coherent packet of 16 rays (shadow rays of a 4x4 pixel block towards a light, 16
+// sorted neighbours through one light) through the wide BVH, the packet walking together: beyond
+// the papers this project follows (MLRTA traces shadows through its kd-tree; docs/mlrta.md, "Shadow
+// packets through a wide BVH").
 //
-// A node's children are tested against the packet's interval bounds (per axis the range of the
-// origins and of the reciprocal directions, one sign for every ray: the paper's test (2) in interval
-// arithmetic, here 32 boxes a node at once); a leaf's box then against each live ray
-// (kdtree::PacketKernels::lane_box) and its triangles against the rays that meet it, 16 lanes a
-// triangle (TriangleKernels::packet_x1, the watertight test every engine uses). Both box tests only
-// ever keep too much, never too little, so a ray is occluded exactly when its single-ray walk says
-// so. A packet whose rays do not share the signs of their directions, or with a direction component
-// that is zero or not finite, goes ray by ray.
+// The packet's interval bounds: per axis the range of the origins and of the reciprocal directions
+// (one sign for every ray), of the rays as given or from their far ends back, whichever spreads its
+// origins less. A node's children are tested against them (the paper's test (2) in interval
+// arithmetic, 32 boxes at once), and each child they admit against each live ray
+// (kdtree::PacketKernels::lane_box): it is pushed with the rays that meet it. At a leaf its
+// triangles' boxes are tested against the bounds, and the admitted triangles against the leaf's
+// rays, 16 lanes a triangle (TriangleKernels::packet_x1, the watertight test every engine uses). The
+// box tests only ever keep too much, never too little, so a ray is occluded exactly when its
+// single-ray walk says so. Lanes whose directions differ in sign go octant by octant (four or more
+// together), the others, and lanes with a zero or infinite reciprocal, ray by ray.
 #include <cmath>
 #include <cstdint>
 
