@@ -108,31 +108,38 @@ std::vector<Ray> shuffled_workload(const std::string& name, workload::Mode mode,
     return rays;
 }
 
-std::unique_ptr<StreamCase> build_case(const std::string& name) {
-    auto c = std::make_unique<StreamCase>();
-    c->rays = shuffled_workload(name, workload::Mode::ao, c->tree, c->error);
-    if (!c->tree) return c;
-    const KdTree::Impl& kd = detail::Access::impl(*c->tree);
-    const std::size_t n = c->rays.size();
-    c->shared = stream::find_shared_points(c->rays, kd.bounds, 4096, 0.01f, StreamSettings::kMaxSharedPoints);
-    c->keys.resize(n);
-    c->order.resize(n);
-    c->sorted_keys.resize(n);
-    c->sorted.resize(n);
-    stream::make_keys(c->rays, kd.bounds, c->shared, c->keys);
-    c->hashes.resize(n);
-    for (std::size_t i = 0; i < n; ++i) c->hashes[i] = stream::origin_hash(c->rays[i]);
-    stream::sort_by_key(c->keys, c->hashes, c->order, c->sorted_keys, 1, c->sort_buffers);
-    stream::gather_in_order(c->rays, c->order, 0, n, c->sorted);
-    stream::cut_groups(c->sorted_keys, 4, c->groups);
-    return c;
+// A case of the scene `name`, made by fill on first use and kept for the benchmarks after.
+template <class Case, class Fill>
+Case& cached_case(const std::string& name, const Fill& fill) {
+    static std::map<std::string, std::unique_ptr<Case>> cache;
+    auto& slot = cache[name];
+    if (!slot) {
+        slot = std::make_unique<Case>();
+        fill(*slot);
+    }
+    return *slot;
+}
+
+void fill_stream_case(const std::string& name, StreamCase& c) {
+    c.rays = shuffled_workload(name, workload::Mode::ao, c.tree, c.error);
+    if (!c.tree) return;
+    const KdTree::Impl& kd = detail::Access::impl(*c.tree);
+    const std::size_t n = c.rays.size();
+    c.shared = stream::find_shared_points(c.rays, kd.bounds, 4096, 0.01f, StreamSettings::kMaxSharedPoints);
+    c.keys.resize(n);
+    c.order.resize(n);
+    c.sorted_keys.resize(n);
+    c.sorted.resize(n);
+    stream::make_keys(c.rays, kd.bounds, c.shared, c.keys);
+    c.hashes.resize(n);
+    for (std::size_t i = 0; i < n; ++i) c.hashes[i] = stream::origin_hash(c.rays[i]);
+    stream::sort_by_key(c.keys, c.hashes, c.order, c.sorted_keys, 1, c.sort_buffers);
+    stream::gather_in_order(c.rays, c.order, 0, n, c.sorted);
+    stream::cut_groups(c.sorted_keys, 4, c.groups);
 }
 
 StreamCase& stream_case(const std::string& name) {
-    static std::map<std::string, std::unique_ptr<StreamCase>> cache;
-    auto& slot = cache[name];
-    if (!slot) slot = build_case(name);
-    return *slot;
+    return cached_case<StreamCase>(name, [&](StreamCase& c) { fill_stream_case(name, c); });
 }
 
 bool usable(benchmark::State& state, const StreamCase& c) {
@@ -354,14 +361,9 @@ struct ShadowCase {
     std::size_t rays = 0;
 };
 
-ShadowCase& shadow_case(const std::string& name) {
-    static std::map<std::string, std::unique_ptr<ShadowCase>> cache;
-    auto& slot = cache[name];
-    if (slot) return *slot;
-    slot = std::make_unique<ShadowCase>();
-    ShadowCase& c = *slot;
+void fill_shadow_case(const std::string& name, ShadowCase& c) {
     const std::optional<std::string> spec = bench::scene_spec(name, c.error);
-    if (!spec) return c;
+    if (!spec) return;
     workload::WorkloadConfig config;
     config.scene = *spec;
     config.mode = workload::Mode::shadow;
@@ -372,7 +374,10 @@ ShadowCase& shadow_case(const std::string& name) {
     c.rows = w.rays.packets_y;
     c.rays = w.rays.ray_count;
     c.tree.emplace(KdTree::build(w.source.scene));
-    return c;
+}
+
+ShadowCase& shadow_case(const std::string& name) {
+    return cached_case<ShadowCase>(name, [&](ShadowCase& c) { fill_shadow_case(name, c); });
 }
 
 void bm_shadow_packets(benchmark::State& state, const std::string& name, int how) {
@@ -457,20 +462,18 @@ struct DiffuseCase {
     std::vector<Ray> shuffled, by_origin;
 };
 
-DiffuseCase& diffuse_case(const std::string& name) {
-    static std::map<std::string, std::unique_ptr<DiffuseCase>> cache;
-    auto& slot = cache[name];
-    if (slot) return *slot;
-    slot = std::make_unique<DiffuseCase>();
-    DiffuseCase& c = *slot;
+void fill_diffuse_case(const std::string& name, DiffuseCase& c) {
     c.shuffled = shuffled_workload(name, workload::Mode::diffuse, c.tree, c.error);
-    if (!c.tree) return c;
+    if (!c.tree) return;
     const Box box = detail::Access::impl(*c.tree).bounds;
     c.by_origin = c.shuffled;
     std::stable_sort(c.by_origin.begin(), c.by_origin.end(), [&](const Ray& a, const Ray& b) {
         return stream::morton_cell(a.org, box) < stream::morton_cell(b.org, box);
     });
-    return c;
+}
+
+DiffuseCase& diffuse_case(const std::string& name) {
+    return cached_case<DiffuseCase>(name, [&](DiffuseCase& c) { fill_diffuse_case(name, c); });
 }
 
 void bm_diffuse_single(benchmark::State& state, const std::string& name) {

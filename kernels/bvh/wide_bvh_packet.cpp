@@ -11,6 +11,7 @@
 #include "common/triangle_kernels.hpp"
 #include "common/watertight_ray.hpp"
 #include "kdtree/packet/packet_kernels.hpp"
+#include "kdtree/packet/packet_lanes.hpp"
 
 namespace beamtrace::bvh {
 
@@ -128,10 +129,6 @@ Triangle leaf_triangle(const float* block, std::size_t count, std::size_t i) {
     return t;
 }
 
-}  // namespace
-
-namespace {
-
 // The walk of the lanes `active` (their bounds made), as occluded_packet describes it.
 std::uint32_t walk_packet(const WideBvh& bvh, const Packet16& p, std::uint32_t active, const PacketBounds& bounds,
                           const kdtree::LaneBoxRays& box_rays, WatertightPacket16& w, const WideBvhKernels& kernels,
@@ -173,7 +170,6 @@ std::uint32_t walk_packet(const WideBvh& bvh, const Packet16& p, std::uint32_t a
         const float* block = bvh.rows.data() + 9 * std::size_t(first);
         // The triangles' boxes against the packet's bounds: only those the bounds admit are tested.
         std::uint32_t admitted = kernels.packet_leaf(bounds, block, int(count));
-        if (admitted == 0) continue;
         for (; admitted != 0 && lanes != 0; admitted &= admitted - 1) {
             const std::size_t i = std::size_t(__builtin_ctz(admitted));
             if (counters) ++counters->triangle_tests;
@@ -208,18 +204,15 @@ std::uint32_t occluded_packet(const WideBvh& bvh, const Packet16& p, Isa isa, Qu
     }
     // The signs of the directions differ (or a component is 0 or not finite): the lanes of each
     // octant together when there are a few and they can be bounded, the others one by one.
+    std::uint32_t negative[3] = {0, 0, 0};  // the reciprocals' sign bits (the directions', zeros' too)
+    for (int k = 0; k < 3; ++k)
+        for (std::uint32_t m = active; m != 0; m &= m - 1)
+            if (std::signbit(inv[k][__builtin_ctz(m)])) negative[k] |= 1u << __builtin_ctz(m);
     bool set_up = false;
     std::uint32_t occluded = 0, alone = 0;
-    for (std::uint32_t left = active; left != 0;) {
-        const int f = __builtin_ctz(left);
-        const auto octant = [&](int i) {
-            return (std::signbit(inv[0][i]) ? 1 : 0) | (std::signbit(inv[1][i]) ? 2 : 0) |
-                   (std::signbit(inv[2][i]) ? 4 : 0);
-        };
-        std::uint32_t same = 0;
-        for (std::uint32_t m = left; m != 0; m &= m - 1)
-            if (octant(__builtin_ctz(m)) == octant(f)) same |= 1u << __builtin_ctz(m);
-        left &= ~same;
+    for (int o = 0; o < 8; ++o) {
+        const std::uint32_t same = kdtree::octant_lanes(negative, active, o);
+        if (same == 0) continue;
         if (__builtin_popcount(same) >= 4 && kernels.packet_bounds(p, same, inv, bounds)) {
             if (!set_up) packet.setup.watertight(p, w);
             set_up = true;

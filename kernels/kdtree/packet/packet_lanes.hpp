@@ -21,10 +21,14 @@ struct alignas(64) PacketLanes {
 PacketLanes packet_lanes(const Packet16& p);
 void packet_lanes(const Packet16& p, PacketLanes& out);  // the same, in place
 
-// The lanes of `lanes` whose direction has the signs of octant o (bit k set: dir_k negative).
-inline std::uint32_t octant_lanes(const PacketLanes& l, std::uint32_t lanes, int o) {
-    for (int k = 0; k < 3; ++k) lanes &= ((o >> k) & 1) ? l.negative[k] : ~l.negative[k];
+// The lanes of `lanes` whose direction has the signs of octant o (bit k set: dir_k negative), from
+// the lanes' sign masks per axis (negative[k]: bit i set when lane i's dir_k is negative).
+inline std::uint32_t octant_lanes(const std::uint32_t (&negative)[3], std::uint32_t lanes, int o) {
+    for (int k = 0; k < 3; ++k) lanes &= ((o >> k) & 1) ? negative[k] : ~negative[k];
     return lanes;
+}
+inline std::uint32_t octant_lanes(const PacketLanes& l, std::uint32_t lanes, int o) {
+    return octant_lanes(l.negative, lanes, o);
 }
 
 // Minimum and maximum of v[i] over the lanes i of `lanes` (at least one).
