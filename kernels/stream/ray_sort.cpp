@@ -105,7 +105,7 @@ private:
 template <class Word>
 void scatter_combined(std::span<const Ray> rays, const Word& word, const SortWords& layout, int shift,
                       std::size_t buckets, std::size_t begin, std::size_t end, std::vector<std::size_t>& t,
-                      RecordLine* lines, SortRecord* records) {
+                      RecordLine* lines, SortRecord* records, std::uint32_t* positions) {
     const std::vector<std::size_t> first = t;  // this part's first position in each bucket
     const auto copy = [&](std::size_t d, std::size_t from, std::size_t to) {  // plain stores of [from, to)
         for (std::size_t k = from; k < to; ++k) records[k] = lines[d].records[k & 7];
@@ -114,6 +114,7 @@ void scatter_combined(std::span<const Ray> rays, const Word& word, const SortWor
         const std::uint64_t w = word(i);
         const std::size_t d = (layout.value(w) >> shift) & (buckets - 1);
         const std::size_t k = t[d]++;
+        if (positions) positions[i] = std::uint32_t(k);
         SortRecord& r = lines[d].records[k & 7];
         r.ray = rays[i];
         r.word = w;
@@ -227,6 +228,12 @@ void order_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, 
     }
     auto& records = buffers.records;
     records.resize(n);
+    // Positions only for bucket_records' callers (the sorted order is in the words).
+    std::uint32_t* positions = nullptr;
+    if (ordering == Ordering::bucket_records) {
+        buffers.positions.resize(n);
+        positions = buffers.positions.data();
+    }
     // Large streams: records staged eight at a time per bucket (RecordLine), written by streaming
     // stores (the records are far beyond the caches; a plain store reads each line first).
     const bool combine = n >= kStreamingRays && reinterpret_cast<std::uintptr_t>(records.data()) % 64 == 0;
@@ -241,14 +248,16 @@ void order_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys, 
         if (!combine) {
             for (std::size_t i = begin; i < end; ++i) {
                 const std::uint64_t w = word(i);
-                SortRecord& r = records[t[(layout.value(w) >> shift) & (buckets - 1)]++];
+                const std::size_t k = t[(layout.value(w) >> shift) & (buckets - 1)]++;
+                if (positions) positions[i] = std::uint32_t(k);
+                SortRecord& r = records[k];
                 r.ray = rays[i];
                 r.word = w;
             }
             return;
         }
         scatter_combined(rays, word, layout, shift, buckets, begin, end, t, buffers.staging[std::size_t(p)].data(),
-                         records.data());
+                         records.data(), positions);
     });
     if (combine) _mm_sfence();
     if (ordering == Ordering::bucket_records) return;

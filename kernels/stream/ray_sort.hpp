@@ -36,6 +36,9 @@ static_assert(sizeof(RecordLine) == 5 * 64);
 // calls (no fresh pages per call).
 struct RaySortBuffers {
     std::vector<SortRecord, HugePageAllocator<SortRecord>> records;
+    // bucket_records: the position of each input ray's record (input index -> position), written in
+    // input order as the scatter places the records.
+    std::vector<std::uint32_t, HugePageAllocator<std::uint32_t>> positions;
     std::vector<std::vector<RecordLine, HugePageAllocator<RecordLine>>> staging;
 };
 
@@ -62,7 +65,9 @@ void bucket_rays(std::span<const Ray> rays, std::span<const std::uint32_t> keys,
                  std::span<std::uint32_t> sorted_keys, std::span<Ray> sorted_rays, int parts, RaySortBuffers& buffers);
 
 // bucket_rays' order as records in buffers.records (each ray with its word: key << 32 | input
-// index), for a caller that reads the rays where they lie (no copy into sorted arrays).
+// index), for a caller that reads the rays where they lie (no copy into sorted arrays); and in
+// buffers.positions, where each input ray's record lies (for answers gathered back to input order:
+// sequential stores, the random accesses reads).
 std::span<const SortRecord> bucket_records(std::span<const Ray> rays, std::span<const std::uint32_t> keys, int parts,
                                            RaySortBuffers& buffers);
 

@@ -573,7 +573,12 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, WideBvhUse wide_b
             const stream::SortRecord* records = sorted.sort_buffers.records.data();
             wide_bvh.trace_all<kOcclusion>(
                 rays.size(), options, [records](std::size_t k) -> const Ray& { return records[k].ray; }, by_position);
-            scatter([records](std::size_t k) { return std::uint32_t(records[k].word); });
+            // Gathered back to input order: sequential stores, random reads (which overlap; a
+            // scatter's random stores each read their line first).
+            const std::uint32_t* positions = sorted.sort_buffers.positions.data();
+            run_query_parts(rays.size(), options, [&](std::size_t b, std::size_t e) {
+                for (std::size_t i = b; i < e; ++i) out[i] = by_position[positions[i]];
+            });
         } else {
             const Ray* in_order = sorted.rays.data();
             wide_bvh.trace_all<kOcclusion>(
