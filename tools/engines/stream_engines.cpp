@@ -73,7 +73,8 @@ public:
             // The calling thread's buffers of a call of these rays (docs/streams.md): keys, origin
             // hashes, order, sorted keys, sorted rays, the sort's 40-byte records of a ray and its
             // word (stream/ray_sort.hpp), groups, the answers by sorted position (at most: a stream
-            // in buckets beyond the caches needs no hashes, order, sorted keys or sorted rays).
+            // in buckets beyond the caches needs no hashes, order, sorted keys or sorted rays, only
+            // each ray's position in the records).
             {"buffer_bytes",
              tracer_->settings().sort
                  ? s.rays * (4 + 4 + 4 + 4 + sizeof(Ray) + 40 + (closest ? sizeof(Hit) : 1)) + groups * 12
