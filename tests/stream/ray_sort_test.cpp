@@ -104,13 +104,16 @@ TEST(StreamRaySort, TheBucketPassOrdersByTheKeysTopDigitAndKeepsTheInputOrderWit
             RaySortBuffers buffers;
             tbb::task_arena arena(parts);
             arena.execute([&] { bucket_rays(rays, keys, order, sorted, out, parts, buffers); });
-            // The same order left in the records (each ray with its key and index).
+            // The same order left in the records (each ray with its key and index), and each input
+            // ray's position.
             RaySortBuffers record_buffers;
             std::span<const SortRecord> records;
             arena.execute([&] { records = bucket_records(rays, keys, parts, record_buffers); });
             ASSERT_EQ(records.size(), n);
+            ASSERT_EQ(record_buffers.positions.size(), n);
             for (std::size_t k = 0; k < n; ++k) {
                 ASSERT_EQ(std::uint32_t(records[k].word), order[k]) << "position " << k << " of " << n;
+                ASSERT_EQ(record_buffers.positions[order[k]], k);
                 ASSERT_EQ(std::uint32_t(records[k].word >> 32), sorted[k]);
                 ASSERT_EQ(std::memcmp(&records[k].ray, &out[k], sizeof(Ray)), 0);
             }
