@@ -63,6 +63,7 @@ foreach(source
     stream/ray_sort.cpp
     stream/ray_groups.cpp
     stream/group_traversal.cpp
+    stream/sorted_stream.cpp
     stream/stream_tracer.cpp
     mlrta/beam.cpp
     mlrta/beam_triangles.cpp
