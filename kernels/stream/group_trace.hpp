@@ -170,10 +170,10 @@ private:
     // the group after the block.
     template <bool kCount>
     std::size_t pencils(std::size_t first, std::size_t end, QueryCounters* c) const {
-        const std::uint32_t point = sorted_.sorted_keys[sorted_.groups[first].begin] >> stream::kPointShift;
+        const std::uint32_t point = sorted_.sorted_keys[sorted_.groups[first].begin] >> kPointShift;
         std::size_t last = first + 1;
         while (last < end && last - first < kPencilBlock && sorted_.groups[last].kind == RayGroup::Kind::pencil &&
-               (sorted_.sorted_keys[sorted_.groups[last].begin] >> stream::kPointShift) == point)
+               (sorted_.sorted_keys[sorted_.groups[last].begin] >> kPointShift) == point)
             ++last;
         const int n = int(last - first);
         if constexpr (kOcclusion) {
@@ -279,7 +279,7 @@ private:
         const Packet16 packet = packet_of([&](std::uint32_t j) -> const Ray& { return rays_[at(j)]; }, n);
         PacketHits16 hits;
         std::uint32_t bits = 0;
-        stream::trace_group<kOcclusion, kCount>(kd_, packet, &hits, &bits, c);
+        trace_group<kOcclusion, kCount>(kd_, packet, &hits, &bits, c);
         write_lanes([&](std::uint32_t i) { return at(i); }, n, &hits, bits);
     }
 

@@ -20,11 +20,12 @@ namespace beamtrace::stream {
 // The sorted order of a call: keys, order, the rays in that order, and groups.
 struct SortedStream {
     // bucket_records: the order is in sort_buffers.records (the rays where the scatter put them, each
-    // with its input index), not in order and rays.
+    // with its input index) and sort_buffers.positions (where each input ray went), not in order and
+    // rays.
     bool in_records = false;
     std::vector<std::uint32_t> keys, hashes, order, sorted_keys;
     std::vector<Ray, HugePageAllocator<Ray>> rays;  // in sorted order (huge pages: common/huge_page_allocator.hpp)
-    stream::RaySortBuffers sort_buffers;
+    RaySortBuffers sort_buffers;
     std::vector<RayGroup> groups;
     // The answers by sorted position, written to the caller's spans in input order at the end of the
     // call: written there directly, ray by ray between walks, the scattered stores evicted the
