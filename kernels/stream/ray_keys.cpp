@@ -3,9 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include "beamtrace/error.hpp"
 #include "common/morton.hpp"
@@ -60,36 +60,47 @@ SharedPoints find_shared_points(std::span<const Ray> rays, const Box& scene_box,
     if (rays.empty() || sample_rays <= 0 || max_points <= 0) return shared;
     const std::size_t n = rays.size(), samples = std::min<std::size_t>(n, std::size_t(sample_rays));
     // Origins counted bit for bit; far ends by cells of the radius (then merged around their mean).
-    std::map<std::tuple<float, float, float>, int> origins;
-    struct EndCell {
-        Float3 sum{0, 0, 0};
-        int count = 0;
-    };
-    std::map<std::tuple<std::int64_t, std::int64_t, std::int64_t>, EndCell> ends;
+    // Sorted vectors, not maps (4,096 samples: a map's nodes cost about a millisecond a call): each
+    // run of equal keys in sample order (stable sorts), so a run's first origin and its ends' sum in
+    // sample order are what a map filled in sample order would hold.
+    using Origin = std::tuple<float, float, float>;
+    using Cell = std::tuple<std::int64_t, std::int64_t, std::int64_t>;
+    std::vector<Origin> origins;
+    std::vector<std::pair<Cell, Float3>> ends;
+    origins.reserve(samples);
+    ends.reserve(samples);
     const float cell = 2.0f * shared.radius;
     for (std::size_t s = 0; s < samples; ++s) {
         const Ray& r = rays[s * n / samples];
         if (!describes_segment(r)) continue;
-        ++origins[{r.org.x, r.org.y, r.org.z}];
+        origins.emplace_back(r.org.x, r.org.y, r.org.z);
         if (std::isfinite(r.tfar) && cell > 0.0f) {
             const Float3 e = far_end(r);
             if (!(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z))) continue;
-            EndCell& c = ends[{std::int64_t(std::floor(e.x / cell)), std::int64_t(std::floor(e.y / cell)),
-                               std::int64_t(std::floor(e.z / cell))}];
-            c.sum = c.sum + e;
-            ++c.count;
+            ends.emplace_back(Cell{std::int64_t(std::floor(e.x / cell)), std::int64_t(std::floor(e.y / cell)),
+                                   std::int64_t(std::floor(e.z / cell))},
+                              e);
         }
     }
+    std::stable_sort(origins.begin(), origins.end());
+    std::stable_sort(ends.begin(), ends.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     const int needed = std::max(2, int(std::ceil(double(fraction) * double(samples))));
     std::vector<std::pair<int, SharedPoint>> found;
-    for (const auto& [o, count] : origins) {
+    for (std::size_t b = 0, e = 0; b < origins.size(); b = e) {
+        for (e = b + 1; e < origins.size() && !(origins[b] < origins[e]);) ++e;  // equal keys (+0 == -0 too)
+        const int count = int(e - b);
+        const Origin& o = origins[b];
         if (count >= needed)
             found.push_back({count, SharedPoint{{std::get<0>(o), std::get<1>(o), std::get<2>(o)}, false}});
         else
             shared.repeated_origins += std::size_t(count - 1);
     }
-    for (const auto& [key, c] : ends)
-        if (c.count >= needed) found.push_back({c.count, SharedPoint{c.sum * (1.0f / float(c.count)), true}});
+    for (std::size_t b = 0, e = 0; b < ends.size(); b = e) {
+        Float3 sum{0, 0, 0};
+        for (e = b; e < ends.size() && ends[e].first == ends[b].first; ++e) sum = sum + ends[e].second;
+        const int count = int(e - b);
+        if (count >= needed) found.push_back({count, SharedPoint{sum * (1.0f / float(count)), true}});
+    }
     std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
     for (const auto& f : found) {
         if (int(shared.points.size()) == max_points) break;

@@ -3,6 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <map>
+#include <span>
+#include <tuple>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -126,6 +131,86 @@ TEST(StreamKeys, TheSampleCountsOriginsSeenTwiceButNotSharedPoints) {
     const SharedPoints at_camera = find_shared_points(camera, b, 4096, 0.01f, 16);
     EXPECT_EQ(at_camera.points.size(), 1u);
     EXPECT_EQ(at_camera.repeated_origins, 0u);
+}
+
+// The sample counted with ordered maps, filled in sample order: what find_shared_points computes
+// with sorted vectors, written the plain way.
+SharedPoints shared_points_by_maps(std::span<const Ray> rays, const Box& box, int sample_rays, float fraction,
+                                   int max_points) {
+    SharedPoints shared;
+    shared.radius = 1e-3f * std::sqrt(dot(box.extent(), box.extent()));
+    const std::size_t n = rays.size(), samples = std::min<std::size_t>(n, std::size_t(sample_rays));
+    std::map<std::tuple<float, float, float>, int> origins;
+    std::map<std::tuple<std::int64_t, std::int64_t, std::int64_t>, std::pair<Float3, int>> ends;
+    const float cell = 2.0f * shared.radius;
+    for (std::size_t s = 0; s < samples; ++s) {
+        const Ray& r = rays[s * n / samples];
+        ++origins[{r.org.x, r.org.y, r.org.z}];
+        const Float3 e = r.org + r.dir * r.tfar;
+        auto& c = ends[{std::int64_t(std::floor(e.x / cell)), std::int64_t(std::floor(e.y / cell)),
+                        std::int64_t(std::floor(e.z / cell))}];
+        c.first = c.first + e;
+        ++c.second;
+    }
+    const int needed = std::max(2, int(std::ceil(double(fraction) * double(samples))));
+    std::vector<std::pair<int, SharedPoint>> found;
+    for (const auto& [o, count] : origins) {
+        if (count >= needed)
+            found.push_back({count, SharedPoint{{std::get<0>(o), std::get<1>(o), std::get<2>(o)}, false}});
+        else
+            shared.repeated_origins += std::size_t(count - 1);
+    }
+    for (const auto& [key, c] : ends)
+        if (c.second >= needed) found.push_back({c.second, SharedPoint{c.first * (1.0f / float(c.second)), true}});
+    std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    for (const auto& f : found)
+        if (int(shared.points.size()) < max_points) shared.points.push_back(f.second);
+    return shared;
+}
+
+TEST(StreamKeys, TheSampleFindsWhatOrderedMapsFind) {
+    // Origins from a few points (one of them as +0 and as -0 in x), rays ending near a few lights,
+    // shuffled: the same points, bit for bit, in the same order, and the same repeat count.
+    const Box b = unit_box();
+    std::mt19937 random(9);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const Float3 lights[3] = {{0.2f, 0.9f, 0.3f}, {0.8f, 0.95f, 0.6f}, {0.5f, 0.9f, 0.5f}};
+    for (int trial = 0; trial < 4; ++trial) {
+        std::vector<Float3> pool(1000);  // origins a few rays each share (repeats, not shared points)
+        for (Float3& p : pool) p = Float3{u(random), u(random), u(random)};
+        std::vector<Ray> rays;
+        for (int i = 0; i < 20000; ++i) {
+            const int kind = int(random() % 6);
+            Float3 o{u(random), u(random), u(random)};
+            if (kind == 0) o = Float3{random() % 2 ? 0.0f : -0.0f, 0.25f, 0.5f};
+            if (kind == 1) o = Float3{0.75f, 0.125f, float(random() % 4) * 0.25f};
+            if (kind == 5) o = pool[random() % pool.size()];
+            if (kind >= 2 && kind <= 4) {
+                const Float3 l = lights[kind - 2] + Float3{u(random), u(random), u(random)} * 1e-5f;
+                rays.push_back(Ray{o, 0.0f, l - o, 1.0f});
+            } else {
+                rays.push_back(Ray{o, 0.0f, Float3{u(random) - 0.5f, u(random) - 0.5f, u(random)}, 0.3f});
+            }
+        }
+        std::shuffle(rays.begin(), rays.end(), random);
+        for (int samples : {64, 1000, 4096}) {
+            const SharedPoints got = find_shared_points(rays, b, samples, 0.01f, 16);
+            const SharedPoints want = shared_points_by_maps(rays, b, samples, 0.01f, 16);
+            if (samples == 4096) {  // the case is not empty: origins, ends and repeats were found
+                EXPECT_GE(want.points.size(), 6u);
+                EXPECT_GT(want.repeated_origins, 10u);
+            }
+            ASSERT_EQ(got.repeated_origins, want.repeated_origins) << "trial " << trial << ", " << samples;
+            ASSERT_EQ(got.points.size(), want.points.size()) << "trial " << trial << ", " << samples;
+            for (std::size_t k = 0; k < got.points.size(); ++k) {
+                EXPECT_EQ(got.points[k].ends, want.points[k].ends);
+                for (int a = 0; a < 3; ++a)
+                    EXPECT_EQ(std::bit_cast<std::uint32_t>(got.points[k].at[a]),
+                              std::bit_cast<std::uint32_t>(want.points[k].at[a]))
+                        << "point " << k << " axis " << a;
+            }
+        }
+    }
 }
 
 TEST(StreamKeys, RaysThatDescribeNoSegmentGetTheirOwnKey) {
