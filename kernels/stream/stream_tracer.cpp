@@ -106,14 +106,9 @@ void trace_stream(const KdTree& tree, const StreamSettings& s, WideBvhUse wide_b
         // it wrote in order.
         if (options.counters) options.counters->stream.single_rays += rays.size();
         if (sorted.in_records) {
-            // (The answers by streaming stores: room's diffuse bounces 6.97 -> 7.20 Mrays/s, five
-            // alternated pairs; docs/streams.md.)
             const stream::SortRecord* records = sorted.sort_buffers.records.data();
-            const auto ray_at = [records](std::size_t k) -> const Ray& { return records[k].ray; };
-            if (reinterpret_cast<std::uintptr_t>(by_position) % 16 == 0)
-                wide_bvh.trace_all<kOcclusion, true>(rays.size(), options, ray_at, by_position);
-            else
-                wide_bvh.trace_all<kOcclusion>(rays.size(), options, ray_at, by_position);
+            wide_bvh.trace_all<kOcclusion>(
+                rays.size(), options, [records](std::size_t k) -> const Ray& { return records[k].ray; }, by_position);
             // Gathered back to input order: sequential stores, random reads (which overlap; a
             // scatter's random stores each read their line first).
             const std::uint32_t* positions = sorted.sort_buffers.positions.data();

@@ -2,9 +2,6 @@
 // Rays traced alone through the stream tracer's wide BVH (docs/streams.md, step 6c; docs/wide_bvh.md).
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
-
-#include <immintrin.h>
 
 #include "beamtrace/query.hpp"
 #include "beamtrace/ray.hpp"
@@ -38,34 +35,20 @@ struct WideBvhUse {
         return (kOcclusion ? kernels->occluded : kernels->intersect)(*bvh, ray);
     }
 
-    // Rays [b, e) one by one (ray(k): the k-th), their answers to out[b .. e). kStreaming: hits go
-    // by streaming stores (out 16-byte aligned), for an answer buffer far beyond the caches that is
-    // read once afterwards: its lines neither read before they are written nor kept in the caches
-    // in place of the BVH's.
-    template <bool kOcclusion, bool kCount, bool kStreaming = false, class RayAt, class Out>
+    // Rays [b, e) one by one (ray(k): the k-th), their answers to out[b .. e).
+    template <bool kOcclusion, bool kCount, class RayAt, class Out>
     void trace_range(std::size_t b, std::size_t e, const RayAt& ray, Out* out, QueryCounters* c) const {
-        if constexpr (kStreaming && !kOcclusion) {
-            static_assert(sizeof(Out) == 16);
-            for (std::size_t k = b; k < e; ++k) {
-                const Hit h = trace<kOcclusion, kCount>(ray(k), c);
-                __m128i v;
-                std::memcpy(&v, &h, sizeof v);
-                _mm_stream_si128(reinterpret_cast<__m128i*>(out + k), v);
-            }
-            _mm_sfence();
-        } else {
-            for (std::size_t k = b; k < e; ++k) store_answer<kOcclusion>(out[k], trace<kOcclusion, kCount>(ray(k), c));
-        }
+        for (std::size_t k = b; k < e; ++k) store_answer<kOcclusion>(out[k], trace<kOcclusion, kCount>(ray(k), c));
     }
 
     // All n of them on the options' threads, counted when options.counters is set.
-    template <bool kOcclusion, bool kStreaming = false, class RayAt, class Out>
+    template <bool kOcclusion, class RayAt, class Out>
     void trace_all(std::size_t n, const QueryOptions& options, const RayAt& ray, Out* out) const {
         run_query(n, options, kAloneGrain, [&](std::size_t b, std::size_t e, QueryCounters* c) {
             if (c)
-                trace_range<kOcclusion, true, kStreaming>(b, e, ray, out, c);
+                trace_range<kOcclusion, true>(b, e, ray, out, c);
             else
-                trace_range<kOcclusion, false, kStreaming>(b, e, ray, out, nullptr);
+                trace_range<kOcclusion, false>(b, e, ray, out, nullptr);
         });
     }
 };
