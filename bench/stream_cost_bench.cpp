@@ -380,39 +380,33 @@ ShadowCase& shadow_case(const std::string& name) {
     return cached_case<ShadowCase>(name, [&](ShadowCase& c) { fill_shadow_case(name, c); });
 }
 
-void bm_shadow_packets(benchmark::State& state, const std::string& name, int how) {
+void bm_shadow_packets(benchmark::State& state, const std::string& name, bool as_packets) {
     ShadowCase& c = shadow_case(name);
     if (!c.error.empty()) return state.SkipWithError(c.error.c_str());
     const bvh::WideBvh& b = wide_bvh(*c.tree, bvh::WideBvhSettings{}.max_leaf_triangles);
     const bvh::WideBvhKernels& k = bvh::wide_bvh_kernels();
+    // One packet's answers: its walk, or its rays one by one (counted when counters is set).
+    const auto occluded = [&](const Packet16& p, QueryCounters* counters) {
+        if (as_packets) return bvh::occluded_packet(b, p, k.isa, counters);
+        std::uint32_t bits = 0;
+        for (std::uint32_t m = p.active & 0xFFFFu; m != 0; m &= m - 1) {
+            const Ray ray = p.ray(__builtin_ctz(m));
+            if ((counters ? k.occluded_counted(b, ray, counters) : k.occluded(b, ray)).hit())
+                bits |= 1u << __builtin_ctz(m);
+        }
+        return bits;
+    };
     std::vector<std::uint32_t> out(c.packets.size());
     for (auto _ : state) {
-        for (std::size_t i = 0; i < c.packets.size(); ++i) {
-            const Packet16& p = c.packets[i];
-            std::uint32_t bits = 0;
-            if (how == 0) {
-                bits = bvh::occluded_packet(b, p, k.isa);
-            } else {
-                for (std::uint32_t m = p.active & 0xFFFFu; m != 0; m &= m - 1)
-                    if (k.occluded(b, p.ray(__builtin_ctz(m))).hit()) bits |= 1u << __builtin_ctz(m);
-            }
-            out[i] = bits;
-        }
+        for (std::size_t i = 0; i < c.packets.size(); ++i) out[i] = occluded(c.packets[i], nullptr);
         benchmark::DoNotOptimize(out.data());
     }
     per_ray(state, c.rays);
-    std::size_t occluded = 0;
-    for (const std::uint32_t o : out) occluded += std::size_t(__builtin_popcount(o));
-    state.counters["occluded"] = double(occluded) / double(c.rays);
+    std::size_t occluded_rays = 0;
+    for (const std::uint32_t o : out) occluded_rays += std::size_t(__builtin_popcount(o));
+    state.counters["occluded"] = double(occluded_rays) / double(c.rays);
     QueryCounters counters;
-    for (const Packet16& p : c.packets) {
-        if (how == 0) {
-            bvh::occluded_packet(b, p, k.isa, &counters);
-        } else {
-            for (std::uint32_t m = p.active & 0xFFFFu; m != 0; m &= m - 1)
-                k.occluded_counted(b, p.ray(__builtin_ctz(m)), &counters);
-        }
-    }
+    for (const Packet16& p : c.packets) occluded(p, &counters);
     const double n = double(c.packets.size());
     state.counters["nodes_per_packet"] = double(counters.inner_steps + counters.packet_steps) / n;
     state.counters["leaves_per_packet"] = double(counters.leaves) / n;
@@ -557,8 +551,8 @@ void register_benchmarks() {
         reg("bvh_sorted", [name](benchmark::State& s) { bm_bvh(s, name, true); });
         reg("bvh_shuffled", [name](benchmark::State& s) { bm_bvh(s, name, false); });
         reg("stream", [name](benchmark::State& s) { bm_stream(s, name); });
-        reg("shadow_bvh_packets", [name](benchmark::State& s) { bm_shadow_packets(s, name, 0); });
-        reg("shadow_bvh_rays", [name](benchmark::State& s) { bm_shadow_packets(s, name, 1); });
+        reg("shadow_bvh_packets", [name](benchmark::State& s) { bm_shadow_packets(s, name, true); });
+        reg("shadow_bvh_rays", [name](benchmark::State& s) { bm_shadow_packets(s, name, false); });
         reg("shadow_mlrta", [name](benchmark::State& s) { bm_shadow_mlrta(s, name); });
         reg("embree_ao_shuffled", [name](benchmark::State& s) {
             StreamCase& c = stream_case(name);

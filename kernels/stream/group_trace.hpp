@@ -176,16 +176,17 @@ private:
                (sorted_.sorted_keys[sorted_.groups[last].begin] >> kPointShift) == point)
             ++last;
         const int n = int(last - first);
+        if constexpr (kCount)
+            for (std::size_t k = first; k < last; ++k) {
+                ++c->stream.pencil_packets;
+                c->stream.pencil_rays += sorted_.groups[k].count;
+            }
         if constexpr (kOcclusion) {
             if (bvh_.bvh && bvh_pencils_) {
                 // Occlusion pencils through the wide BVH, a packet at a time (bvh::occluded_packet:
                 // the packet's bounds from the rays' far ends, where they meet).
                 for (std::size_t k = first; k < last; ++k) {
                     const RayGroup& g = sorted_.groups[k];
-                    if constexpr (kCount) {
-                        ++c->stream.pencil_packets;
-                        c->stream.pencil_rays += g.count;
-                    }
                     const std::uint32_t bits = bvh::occluded_packet(*bvh_.bvh, packet_of(rays_ + g.begin, g.count),
                                                                     bvh_.kernels->isa, kCount ? c : nullptr);
                     write_lanes([&](std::uint32_t i) { return g.begin + i; }, g.count, nullptr, bits);
@@ -201,10 +202,6 @@ private:
         std::uint32_t* bits_of[kPencilBlock] = {};
         for (int k = 0; k < n; ++k) {
             const RayGroup& g = sorted_.groups[first + std::size_t(k)];
-            if constexpr (kCount) {
-                ++c->stream.pencil_packets;
-                c->stream.pencil_rays += g.count;
-            }
             const Packet16 p = packet_of(rays_ + g.begin, g.count);
             if (!kOcclusion || !mlrta::reverse_for_occlusion(p, tolerance_, packets[k])) packets[k] = p;
             traced[k] = &packets[k];
