@@ -225,3 +225,28 @@ TEST(VisibilityField, BinnedStreamsAnswerAsPackets) {
         EXPECT_GT(hit_count, 1000u);
     }
 }
+
+// Streams with many rays per PSF: the one-tile rays are binned by PSF and by blocks of tiles (here
+// l = 9 and 48,000 rays, about 5,300 a PSF: blocks of 16 x 16 tiles, each bin several chunks, the
+// newest partly filled). Every packet answers as when traced alone, in both modes.
+TEST(VisibilityField, BinnedStreamsInBlocksOfTilesAnswerAsPackets) {
+    const Scene s = test::random_soup(3000, 74);
+    const VisibilityField field(s, opts(9, 48, 4));
+    const std::vector<Ray> rays = beam_rays(field.directions(), s.bounds(), 48000, 75);
+    std::vector<Packet16> packets(rays.size() / 16);
+    for (std::size_t p = 0; p < packets.size(); ++p) {
+        for (int i = 0; i < 16; ++i) packets[p].set_ray(i, rays[p * 16 + std::size_t(i)]);
+        packets[p].active = p % 5 == 0 ? 0x7FFEu : 0xFFFFu;
+    }
+    for (VlfMode mode : {VlfMode::exact, VlfMode::fast}) {
+        std::vector<std::uint32_t> occluded(packets.size());
+        field.occluded(packets, occluded, mode);
+        std::size_t count = 0;
+        for (std::size_t p = 0; p < packets.size(); ++p) {
+            ASSERT_EQ(occluded[p], field.occluded(packets[p], mode)) << p;
+            count += std::size_t(__builtin_popcount(occluded[p]));
+        }
+        EXPECT_GT(count, 5000u);
+        EXPECT_LT(count, rays.size() - 5000u);
+    }
+}

@@ -113,7 +113,7 @@ void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, W
     std::vector<std::uint32_t> bin_of(packets.size() * 16, kNoBin);
     std::vector<std::size_t> first(psfs + 1, 0);
     vlf::PacketLookup lookup;
-    if (tiles) tiles->begin(psfs, packets.size() * 16);
+    if (tiles) tiles->begin(psfs, n, packets.size() * 16);
     for (std::size_t p = 0; p < packets.size(); ++p) {
         vlf::lookup_packet(f, packets[p], lookup, tiles != nullptr);
         for (std::uint32_t m = lookup.valid; m; m &= m - 1) {

@@ -3,6 +3,8 @@
 #include "vlf/stream/tile_ray_stream.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstddef>
 #include <utility>
 
 #include <immintrin.h>
@@ -29,21 +31,30 @@ TileRayLease::~TileRayLease() {
 }
 
 std::size_t TileRayBins::bytes() const {
-    return (pool_size_ + 8) * sizeof(TileRay) + pool_size_ * sizeof(std::uint32_t) +
+    return (pool_size_ + 16) * sizeof(TileRay) + batches_.capacity() * sizeof(Batch) +
            (link_.capacity() + last_.capacity() + fill_.capacity() + count_.capacity()) * sizeof(std::uint32_t);
 }
 
-void TileRayBins::begin(std::size_t psfs, std::size_t rays) {
-    const std::size_t chunks = (rays + kChunk - 1) / kChunk + psfs;
+void TileRayBins::begin(std::size_t psfs, std::uint32_t tiles_per_side, std::size_t rays) {
+    // Blocks of 2^shift_ tiles a side, halved until a PSF's rays spread over enough of them to give
+    // about kRaysPerBlock a bin (the rays' tiles then fit in the caches with room to spare).
+    const std::size_t wanted = std::max<std::size_t>(1, rays / std::max<std::size_t>(1, psfs) / kRaysPerBlock);
+    shift_ = 0;
+    while ((1u << shift_) < tiles_per_side) ++shift_;
+    auto side = [&](std::uint32_t s) { return (tiles_per_side + (1u << s) - 1u) >> s; };
+    while (shift_ > 0 && std::size_t(side(shift_)) * side(shift_) < wanted) --shift_;
+    blocks_side_ = side(shift_);
+    const std::size_t bins = psfs * blocks_side_ * blocks_side_;
+    // Every chunk but a bin's newest is full.
+    const std::size_t chunks = (rays + kChunk - 1) / kChunk + std::min(bins, rays);
     if (pool_size_ < chunks * kChunk) {
         pool_size_ = chunks * kChunk;
-        pool_ = std::make_unique<TileRay[]>(pool_size_ + 8);  // + 8: read ahead
-        keys_ = std::make_unique<std::uint32_t[]>(pool_size_);
+        pool_.reset(new TileRay[pool_size_ + 16]);  // + 16: read ahead; pages touched as they fill
     }
     chunks_ = 0;
     link_.resize(chunks);
-    last_.assign(psfs, kNone);
-    fill_.assign(psfs, 0);
+    last_.assign(bins, kNone);
+    fill_.assign(bins, 0);
     count_.assign(psfs, 0);
 }
 
@@ -51,112 +62,92 @@ bool TileRayBins::take(const VisibilityField::Impl& f, const Packet16& p, const 
                        std::uint32_t slot, VlfMode mode) {
     if (mode == VlfMode::exact && !((l.one_tile >> i) & 1u)) return false;
     const std::uint32_t psf = l.psf[i];
-    if (last_[psf] == kNone || fill_[psf] == kChunk) {
-        link_[chunks_] = last_[psf];
-        last_[psf] = chunks_++;
-        fill_[psf] = 0;
+    const auto column = std::uint32_t(l.column[i]), row = std::uint32_t(l.row[i]);
+    const std::uint32_t bin = (psf * blocks_side_ + (row >> shift_)) * blocks_side_ + (column >> shift_);
+    if (last_[bin] == kNone || fill_[bin] == kChunk) {
+        link_[chunks_] = last_[bin];
+        last_[bin] = chunks_++;
+        fill_[bin] = 0;
     }
-    TileRay r;
-    r.tile = std::uint32_t(l.row[i]) * std::uint32_t(f.grid.n) + std::uint32_t(l.column[i]);
-    r.slot = slot;
-    r.z0 = l.z0[i];
-    r.z1 = l.z1[i];
-    r.footprint = l.footprint[i];
+    // The record stored by streaming stores, field by field, filling its line (the pool is far
+    // larger than the caches, and a plain store would first read the line it overwrites). Not built
+    // on the stack and copied: a 16-byte load of 4-byte stores cannot be forwarded and waits for
+    // them to reach the cache.
     const float o[3] = {p.org_x[i], p.org_y[i], p.org_z[i]};
-    r.kx = l.kx[i];
-    r.ky = l.ky[i];
-    r.kz = l.kz[i];
-    r.okx = o[r.kx];
-    r.oky = o[r.ky];
-    r.okz = o[r.kz];
-    r.sx = l.sx[i];
-    r.sy = l.sy[i];
-    r.sz = l.sz[i];
-    r.tnear = p.tnear[i];
-    r.tfar = p.tfar[i];
-    // One streaming store of the whole line: the pool is far larger than the caches, and a plain
-    // store would first read the line it overwrites.
-    const std::size_t at = std::size_t(last_[psf]) * kChunk + fill_[psf]++;
-    keys_[at] = r.tile;
-    auto* to = reinterpret_cast<__m128i*>(&pool_[at]);
-    const auto* from = reinterpret_cast<const __m128i*>(&r);
-    for (int k = 0; k < 4; ++k) _mm_stream_si128(to + k, _mm_load_si128(from + k));
+    const std::int32_t kx = l.kx[i], ky = l.ky[i], kz = l.kz[i];
+    auto bits = [](float x) { return std::bit_cast<int>(x); };
+    const std::size_t at = std::size_t(last_[bin]) * kChunk + fill_[bin]++;
+    int* to = reinterpret_cast<int*>(&pool_[at]);
+    const int words[16] = {int(row * std::uint32_t(f.grid.n) + column),
+                           int(slot),
+                           bits(l.z0[i]),
+                           bits(l.z1[i]),
+                           int(l.footprint[i]),
+                           bits(o[kx]),
+                           bits(o[ky]),
+                           bits(o[kz]),
+                           bits(l.sx[i]),
+                           bits(l.sy[i]),
+                           bits(l.sz[i]),
+                           bits(p.tnear[i]),
+                           bits(p.tfar[i]),
+                           kx,
+                           ky,
+                           kz};
+    static_assert(offsetof(TileRay, footprint) == 16 && offsetof(TileRay, sx) == 32 && offsetof(TileRay, tfar) == 48 &&
+                  offsetof(TileRay, kz) == 60 && sizeof(TileRay) == 64);
+    for (int k = 0; k < 16; ++k) _mm_stream_si32(to + k, words[k]);
     ++count_[psf];
     return true;
 }
 
 void TileRayBins::trace(const VisibilityField::Impl& f, std::span<std::uint32_t> occluded) {
-    const auto n = std::uint32_t(f.grid.n);
-    for (std::size_t psf = 0; psf < last_.size(); ++psf) {
-        const std::size_t m = count_[psf];
-        if (m == 0) continue;
-        if (sorted_size_ < m) {
-            sorted_size_ = std::max<std::size_t>(m, 2 * sorted_size_);
-            sorted_[0] = std::make_unique<TileRay[]>(sorted_size_);
-            sorted_[1] = std::make_unique<TileRay[]>(sorted_size_);
-        }
-        // Counting sort out of the chunks (the keys first, dense; then each record once, read in
-        // order): by tile where the grid is small, else by column and then by row (stable). Tiles
-        // then come in row-major order, the order of their blocks in the pool.
-        auto each = [&](auto&& g) {
-            for (std::uint32_t c = last_[psf]; c != kNone; c = link_[c]) {
-                const std::uint32_t size = c == last_[psf] ? fill_[psf] : kChunk;
-                const std::size_t at = std::size_t(c) * kChunk;
-                for (std::uint32_t k = 0; k < size; ++k) {
-                    _mm_prefetch(reinterpret_cast<const char*>(&pool_[at + k + 8]), _MM_HINT_T0);
-                    g(keys_[at + k], pool_[at + k]);
-                }
+    const std::size_t blocks = std::size_t(blocks_side_) * blocks_side_;
+    for (std::size_t psf = 0; psf < count_.size(); ++psf) {
+        if (count_[psf] == 0) continue;
+        // The PSF's bins block by block (row-major), each bin's chunks newest first, 16 rays a batch.
+        batches_.clear();
+        for (std::size_t bin = psf * blocks; bin < (psf + 1) * blocks; ++bin)
+            for (std::uint32_t c = last_[bin]; c != kNone; c = link_[c]) {
+                const std::uint32_t size = c == last_[bin] ? fill_[bin] : kChunk;
+                const TileRay* rays = &pool_[std::size_t(c) * kChunk];
+                for (std::uint32_t k = 0; k < size; k += 16) batches_.push_back({rays + k, std::min(16u, size - k)});
             }
-        };
-        TileRay* out = sorted_[1].get();
-        const std::uint32_t tiles = n * n;
-        if (tiles <= kTileSortLimit) {
-            next_.assign(std::size_t(tiles) + 1, 0);
-            for (std::uint32_t c = last_[psf]; c != kNone; c = link_[c]) {
-                const std::uint32_t size = c == last_[psf] ? fill_[psf] : kChunk;
-                for (std::uint32_t k = 0; k < size; ++k) ++next_[keys_[std::size_t(c) * kChunk + k] + 1];
-            }
-            for (std::uint32_t b = 0; b < tiles; ++b) next_[b + 1] += next_[b];
-            each([&](std::uint32_t tile, const TileRay& r) { out[next_[tile]++] = r; });
-        } else {
-            TileRay* by_column = sorted_[0].get();
-            next_.assign(std::size_t(n) + 1, 0);
-            each([&](std::uint32_t tile, const TileRay&) { ++next_[tile % n + 1]; });
-            for (std::uint32_t b = 0; b < n; ++b) next_[b + 1] += next_[b];
-            each([&](std::uint32_t tile, const TileRay& r) { by_column[next_[tile % n]++] = r; });
-            next_.assign(std::size_t(n) + 1, 0);
-            for (std::size_t k = 0; k < m; ++k) ++next_[by_column[k].tile / n + 1];
-            for (std::uint32_t b = 0; b < n; ++b) next_[b + 1] += next_[b];
-            for (std::size_t k = 0; k < m; ++k) out[next_[by_column[k].tile / n]++] = by_column[k];
-        }
-        const TileRay* by_row = out;
         f.quiescent();  // no tile held between PSFs
-        trace_psf(f, f.psf(std::uint32_t(psf)), std::span<const TileRay>(by_row, m), occluded);
+        trace_psf(f, f.psf(std::uint32_t(psf)), batches_, occluded);
     }
 }
 
-void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfield& psf, std::span<const TileRay> rays,
+void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfield& psf, std::span<const Batch> list,
                             std::span<std::uint32_t> occluded) {
-    const std::size_t batches = (rays.size() + 15) / 16;
+    const std::size_t batches = list.size();
     const Triangle* triangles = f.triangles.data();
     const VlfKernels& kernels = *f.simd;
-    auto range = [&](std::size_t b) {
-        return std::pair<std::size_t, std::size_t>{16 * b, std::min(rays.size(), 16 * b + 16)};
+    // Batch b's rays as rays[first .. end).
+    struct Range {
+        const TileRay* rays;
+        std::size_t first, end;
+    };
+    auto range = [&](std::size_t b) { return Range{list[b].rays, 0, list[b].count}; };
+    // Stage 0: the rays' records (written by streaming stores: in memory, not in the caches).
+    auto request_rays = [&](std::size_t b) {
+        const char* a = reinterpret_cast<const char*>(list[b].rays);
+        for (std::uint32_t k = 0; k < list[b].count; ++k) _mm_prefetch(a + 64 * k, _MM_HINT_T2);
     };
     // Stage 1: the tile entries.
     auto request_entries = [&](std::size_t b) {
-        const auto [first, end] = range(b);
+        const auto [rays, first, end] = range(b);
         for (std::size_t i = first; i < end; ++i) psf.prefetch_tile(rays[i].tile);
     };
     // Stage 1b: each tile's header (its pointer is cached by then).
     auto request_headers = [&](std::size_t b) {
-        const auto [first, end] = range(b);
+        const auto [rays, first, end] = range(b);
         for (std::size_t i = first; i < end; ++i)
             if (i == first || rays[i].tile != rays[i - 1].tile) psf.prefetch_header(rays[i].tile);
     };
     // Stage 2: the splits and leaf ends at the head of each block.
     auto request_heads = [&](std::size_t b) {
-        const auto [first, end] = range(b);
+        const auto [rays, first, end] = range(b);
         for (std::size_t i = first; i < end; ++i) {
             if (i > first && rays[i].tile == rays[i - 1].tile) continue;
             const TileRef ref = psf.tile(rays[i].tile);
@@ -175,7 +166,7 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
     Stage ring[8];
     // Stage 3: each ray's leaves, and the footprints and ids of their entries requested.
     auto request_entries_of_leaves = [&](std::size_t b) {
-        const auto [first, end] = range(b);
+        const auto [rays, first, end] = range(b);
         Stage& s = ring[b % 8];
         for (std::size_t i = first; i < end; ++i) {
             const TileRay& r = rays[i];
@@ -215,7 +206,7 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
     // Stage 4: for long runs, the entries of the groups whose union meets the ray requested.
     std::vector<std::uint32_t>& passing = passing_;
     auto request_groups = [&](std::size_t b) {
-        const auto [first, end] = range(b);
+        const auto [rays, first, end] = range(b);
         const Stage& s = ring[b % 8];
         for (std::size_t i = first; i < end; ++i) {
             const std::size_t lane = i - first;
@@ -234,7 +225,7 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
     };
     // Stage 5: the candidates, and their triangles requested.
     auto candidates = [&](std::size_t b) {
-        const auto [first, end] = range(b);
+        const auto [rays, first, end] = range(b);
         Stage& s = ring[b % 8];
         std::vector<std::uint32_t>& ids = ids_[b & 1];
         std::vector<std::uint32_t>& lanes = lanes_[b & 1];
@@ -271,15 +262,17 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
         }
     };
     // Batch b is tested while b + 1 is scanned, b + 2 has its groups' entries requested, b + 3 its
-    // leaves' entries (or groups), b + 5 its blocks' heads, b + 6 its tiles' headers, b + 7 its tile entries (distances
-    // measured on the bunny's and the room's AO rays).
+    // leaves' entries (or groups), b + 5 its blocks' heads, b + 6 its tiles' headers, b + 7 its tile
+    // entries and b + 7 + R its records (distances measured on the bunny's and the room's AO rays).
     // Under a memory budget the pipeline is drained every kQuiescentBatches batches, where the
     // thread holds no tile and says so (tile_cache.hpp): evicted blocks are then freed within a PSF.
-    constexpr std::size_t H = 2, L = 4, G = 5, C = 6, T = C + 1;
+    constexpr std::size_t R = 3, H = 2, L = 4, G = 5, C = 6, T = C + 1;
     const std::size_t segment = f.tile_cache->budgeted() ? kQuiescentBatches : batches;
     for (std::size_t b0 = 0; b0 < batches; b0 += segment) {
         const std::size_t b1 = std::min(batches, b0 + segment);
+        for (std::size_t b = b0; b < b1 && b < b0 + R; ++b) request_rays(b);
         for (std::size_t b = b0; b < b1 + T; ++b) {
+            if (b + R < b1) request_rays(b + R);
             if (b < b1) request_entries(b);
             if (b >= b0 + 1 && b - 1 < b1) request_headers(b - 1);
             if (b >= b0 + H && b - H < b1) request_heads(b - H);

@@ -2,12 +2,15 @@
 // The rays of a binned occlusion stream (ray_stream.cpp) whose segments stay in the tile where they
 // start (section 7: AO rays along PSF directions; in mode fast, every ray), traced in batches of 16
 // (tile_ray_batch.hpp) instead of one walk each. The stream's first pass hands each looked-up ray
-// to take(); the ones it keeps go, as 64-byte TileRays, into per-PSF bins (chunks of a pool the
-// field lends, kept from one call to the next, so that a timed pass does not pay for fresh pages,
-// and freed with the field; VlfStats::stream_bytes counts it); trace()
-// then orders each bin by tile (counting sorts: column, then row) and traces it as a pipeline:
+// to take(); the ones it keeps go, as 64-byte TileRays, into bins of one PSF and one square block of
+// its tiles (chunks of a pool the field lends, kept from one call to the next, so that a timed pass
+// does not pay for fresh pages, and freed with the field; VlfStats::stream_bytes counts it). The
+// blocks are sized so that a bin holds about kRaysPerBlock rays: the tiles a bin's rays read stay in
+// the caches while its rays are traced, in the order they came, with no sort and no second copy of
+// the rays. trace() then takes the bins PSF by PSF and traces each PSF's rays as a pipeline:
 //
-//   batch b + 7: the rays' tile entries requested from memory;
+//   batch b + 9: the rays' records requested from memory;
+//   batch b + 7: the rays' tile entries requested;
 //   batch b + 5: the entries read, the heads of the tiles' blocks (splits, leaf ends) requested;
 //   batch b + 3: each ray's leaves found, their entries' footprints and ids requested (for a long
 //                run, the groups' union footprints, tile_bsp.hpp);
@@ -31,37 +34,45 @@ namespace beamtrace::vlf {
 
 class TileRayBins {
 public:
-    // Empties the bins, for a stream of at most `rays` rays over `psfs` PSFs.
-    void begin(std::size_t psfs, std::size_t rays);
+    // Empties the bins, for a stream of at most `rays` rays over `psfs` PSFs of `tiles_per_side`^2
+    // tiles.
+    void begin(std::size_t psfs, std::uint32_t tiles_per_side, std::size_t rays);
     // Lane i of a looked-up packet (valid in l), slot its place in the stream: true if kept (its
     // segment lies in its first tile; in mode fast, always).
     bool take(const VisibilityField::Impl& f, const Packet16& p, const PacketLookup& l, int i, std::uint32_t slot,
               VlfMode mode);
     // Traces the kept rays; sets bit slot % 16 of occluded[slot / 16] for each occluded one.
     void trace(const VisibilityField::Impl& f, std::span<std::uint32_t> occluded);
-    // Bytes held (the pool and its keys).
+    // Bytes held (the pool and the bins' lists).
     std::size_t bytes() const;
+    // The side of a bin's block of tiles (for tests).
+    std::uint32_t block_side() const { return 1u << shift_; }
+
+    // Rays a bin aims at (begin sizes the blocks of tiles from the stream's rays per PSF).
+    static constexpr std::size_t kRaysPerBlock = 1024;
 
 private:
-    static constexpr std::uint32_t kChunk = 256;
+    // Up to 16 consecutive rays of one chunk.
+    struct Batch {
+        const TileRay* rays;
+        std::uint32_t count;
+    };
+    static constexpr std::uint32_t kChunk = 64;
     static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
     static constexpr std::size_t kQuiescentBatches = 256;  // under a memory budget (tile_ray_stream.cpp)
-    void trace_psf(const VisibilityField::Impl& f, const ParallelSubfield& psf, std::span<const TileRay> rays,
+    void trace_psf(const VisibilityField::Impl& f, const ParallelSubfield& psf, std::span<const Batch> batches,
                    std::span<std::uint32_t> occluded);
 
-    // Grids of at most this many tiles are sorted by tile in one pass, larger ones by column and row.
-    static constexpr std::uint32_t kTileSortLimit = 1u << 16;
-    std::unique_ptr<TileRay[]> pool_;        // chunks of kChunk rays
-    std::unique_ptr<std::uint32_t[]> keys_;  // their tiles, dense
+    std::unique_ptr<TileRay[]> pool_;  // chunks of kChunk rays
     std::size_t pool_size_ = 0;
     std::uint32_t chunks_ = 0;
-    std::vector<std::uint32_t> link_;       // chunk -> the PSF's previous chunk (kNone: first)
-    std::vector<std::uint32_t> last_;       // PSF -> its newest chunk (kNone: none)
-    std::vector<std::uint32_t> fill_;       // PSF -> rays in its newest chunk
-    std::vector<std::uint32_t> count_;      // PSF -> rays
-    std::unique_ptr<TileRay[]> sorted_[2];  // a bin ordered by column, then by row
-    std::size_t sorted_size_ = 0;
-    std::vector<std::uint32_t> next_;               // counting sort
+    std::uint32_t shift_ = 0;           // a bin's block of tiles: 2^shift_ columns and rows
+    std::uint32_t blocks_side_ = 1;     // blocks per side of the grid
+    std::vector<std::uint32_t> link_;   // chunk -> the bin's previous chunk (kNone: first)
+    std::vector<std::uint32_t> last_;   // bin (PSF * blocks_side_^2 + block) -> its newest chunk (kNone: none)
+    std::vector<std::uint32_t> fill_;   // bin -> rays in its newest chunk
+    std::vector<std::uint32_t> count_;  // PSF -> rays
+    std::vector<Batch> batches_;        // of one PSF
     std::vector<std::uint32_t> ids_[2], lanes_[2];  // candidate pairs of two batches
     std::vector<std::uint32_t> passing_;            // groups of a long run that meet a ray
 };
