@@ -38,7 +38,7 @@ template <>
 const vlf::VlfKernels& simd::table<vlf::VlfKernels, Isa::avx2>() {
     static constexpr vlf::VlfKernels k{
         Isa::avx2, Unit::lookup_packet,        scan_footprints,      vlf::occlude_entries_scalar,
-        nullptr,   vlf::batch_candidates_avx2, vlf::batch_test_avx2};
+        nullptr,   vlf::batch_candidates_avx2, vlf::batch_test_avx2, vlf::store_tile_rays_scalar};
     return k;
 }
 

@@ -15,6 +15,7 @@
 #include "vlf/query/entry_occlusion_impl.hpp"
 #include "vlf/query/footprint_scan_impl.hpp"
 #include "vlf/stream/tile_ray_batch_impl.hpp"
+#include "vlf/stream/tile_ray_store_impl.hpp"
 
 namespace beamtrace {
 namespace {
@@ -66,9 +67,9 @@ const kdtree::PacketKernels& simd::table<kdtree::PacketKernels, Isa::avx512>() {
 
 template <>
 const vlf::VlfKernels& simd::table<vlf::VlfKernels, Isa::avx512>() {
-    static constexpr vlf::VlfKernels k{Isa::avx512,           unit::Unit::lookup_packet, unit::scan_footprints,
-                                       unit::occlude_entries, unit::closest_entries,     unit::batch_candidates,
-                                       unit::batch_test};
+    static constexpr vlf::VlfKernels k{Isa::avx512,           unit::Unit::lookup_packet,  unit::scan_footprints,
+                                       unit::occlude_entries, unit::closest_entries,      unit::batch_candidates,
+                                       unit::batch_test,      vlf::store_tile_rays_avx512};
     return k;
 }
 

@@ -39,8 +39,8 @@ const kdtree::PacketKernels& simd::table<kdtree::PacketKernels, Isa::sse42>() {
 template <>
 const vlf::VlfKernels& simd::table<vlf::VlfKernels, Isa::sse42>() {
     static constexpr vlf::VlfKernels k{
-        Isa::sse42, Unit::lookup_packet,          scan_footprints,       vlf::occlude_entries_scalar,
-        nullptr,    vlf::batch_candidates_scalar, vlf::batch_test_scalar};
+        Isa::sse42, Unit::lookup_packet,          scan_footprints,        vlf::occlude_entries_scalar,
+        nullptr,    vlf::batch_candidates_scalar, vlf::batch_test_scalar, vlf::store_tile_rays_scalar};
     return k;
 }
 

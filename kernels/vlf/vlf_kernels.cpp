@@ -24,7 +24,9 @@ const VlfKernels& vlf_kernels(Isa isa) { return simd::select<VlfKernels>(isa); }
 template <>
 const beamtrace::vlf::VlfKernels& beamtrace::simd::table<beamtrace::vlf::VlfKernels, beamtrace::Isa::scalar>() {
     using namespace beamtrace::vlf;
-    static constexpr VlfKernels kScalar{
-        Isa::scalar, nullptr, scan_scalar, occlude_entries_scalar, nullptr, batch_candidates_scalar, batch_test_scalar};
+    static constexpr VlfKernels kScalar{Isa::scalar,       nullptr,
+                                        scan_scalar,       occlude_entries_scalar,
+                                        nullptr,           batch_candidates_scalar,
+                                        batch_test_scalar, store_tile_rays_scalar};
     return kScalar;
 }

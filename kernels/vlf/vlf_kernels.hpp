@@ -3,7 +3,7 @@
 // the footprint scan (tile_footprint.hpp) and the occlusion by a run of tile entries (entry_occlusion.hpp; AVX-512
 // only, the reference elsewhere) and the closest hit among a leaf's entries (entry_closest_hit.hpp; AVX-512 only,
 // nullptr elsewhere: the walk's own leaf loop), and the two kernels of batched one-tile occlusion (tile_ray_batch.hpp;
-// AVX-512 and AVX2, the references on SSE4.2).
+// AVX-512 and AVX2, the references on SSE4.2) and their records' stores (tile_ray_store.hpp).
 #include <cstdint>
 
 #include "simd/dispatch.hpp"
@@ -12,6 +12,7 @@
 #include "vlf/query/entry_occlusion.hpp"
 #include "vlf/stream/packet_lookup.hpp"
 #include "vlf/stream/tile_ray_batch.hpp"
+#include "vlf/stream/tile_ray_store.hpp"
 
 namespace beamtrace::vlf {
 
@@ -28,6 +29,7 @@ struct VlfKernels {
     ClosestEntriesFn closest_entries;
     BatchCandidatesFn batch_candidates;  // tile_ray_batch.hpp (AVX-512, AVX2; the references on SSE4.2)
     BatchTestFn batch_test;
+    StoreTileRaysFn store_tile_rays;  // tile_ray_store.hpp (AVX-512; the reference elsewhere)
 };
 
 // The kernels of one instruction set (which must be available: throws beamtrace::Error otherwise).

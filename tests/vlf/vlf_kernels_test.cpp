@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <random>
 
@@ -528,4 +529,58 @@ TEST(VlfKernels, BatchTestEqualsScalarAndSingleRays) {
         }
     }
     EXPECT_GT(occluded_rays, 150u);
+}
+
+// The records of one-tile rays: every instruction set's store writes the bytes the scalar
+// reference writes (lanes not asked for untouched), each record field by field what the lookup
+// and the packet hold.
+TEST(VlfKernels, TileRayStoresEqualScalar) {
+    const Scene scene = test::random_soup(300, 95);
+    const std::unique_ptr<VisibilityField::Impl> field = lookup_field(scene);
+    std::mt19937 rng(96);
+    const std::vector<Packet16> packets = awkward_packets(scene.bounds(), rng, 600);
+    const auto n = std::uint32_t(field->grid.n);
+    const StoreTileRaysFn reference = vlf_kernels(Isa::scalar).store_tile_rays;
+    std::size_t stored = 0;
+    for (Isa isa : simd_isas()) {
+        SCOPED_TRACE(isa_name(isa));
+        const VlfKernels& k = vlf_kernels(isa);
+        for (std::size_t p = 0; p < packets.size(); ++p) {
+            PacketLookup l;
+            k.lookup_packet(field->lookup.tables, packets[p], l, true);
+            // Some lanes asked for in reverse order of places, to catch a lane written to another's.
+            const std::uint32_t lanes = p % 2 ? l.one_tile : l.valid;
+            std::vector<TileRay> want(17), got(17);
+            std::memset(want.data(), 0xAB, want.size() * sizeof(TileRay));
+            std::memset(got.data(), 0xAB, got.size() * sizeof(TileRay));
+            TileRay* to_want[16];
+            TileRay* to_got[16];
+            for (int i = 0; i < 16; ++i) {
+                const int place = p % 3 ? i : 15 - i;
+                to_want[i] = &want[std::size_t(place)];
+                to_got[i] = &got[std::size_t(place)];
+            }
+            const auto slot0 = std::uint32_t(16 * p + 7);
+            reference(l, packets[p], lanes, n, slot0, to_want);
+            k.store_tile_rays(l, packets[p], lanes, n, slot0, to_got);
+            ASSERT_EQ(std::memcmp(want.data(), got.data(), want.size() * sizeof(TileRay)), 0) << p;
+            for (std::uint32_t m = lanes; m; m &= m - 1) {
+                const int i = __builtin_ctz(m);
+                const TileRay& r = *to_got[i];
+                ASSERT_EQ(r.tile, std::uint32_t(l.row[i]) * n + std::uint32_t(l.column[i]));
+                ASSERT_EQ(r.slot, slot0 + std::uint32_t(i));
+                const float o[3] = {packets[p].org_x[i], packets[p].org_y[i], packets[p].org_z[i]};
+                ASSERT_EQ(bits(r.okx), bits(o[l.kx[i]]));
+                ASSERT_EQ(bits(r.oky), bits(o[l.ky[i]]));
+                ASSERT_EQ(bits(r.okz), bits(o[l.kz[i]]));
+                ASSERT_EQ(bits(r.z1), bits(l.z1[i]));
+                ASSERT_EQ(r.footprint, l.footprint[i]);
+                ASSERT_EQ(bits(r.tfar), bits(packets[p].tfar[i]));
+                ASSERT_EQ(r.kz, l.kz[i]);
+                ++stored;
+            }
+        }
+    }
+    if (simd_isas().empty()) GTEST_SKIP() << "no SIMD instruction set on this CPU";
+    EXPECT_GT(stored, 1000u);
 }

@@ -116,9 +116,9 @@ void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, W
     if (tiles) tiles->begin(psfs, n, packets.size() * 16);
     for (std::size_t p = 0; p < packets.size(); ++p) {
         vlf::lookup_packet(f, packets[p], lookup, tiles != nullptr);
-        for (std::uint32_t m = lookup.valid; m; m &= m - 1) {
+        const std::uint32_t taken = tiles ? tiles->take(f, packets[p], lookup, std::uint32_t(p * 16), mode) : 0u;
+        for (std::uint32_t m = lookup.valid & ~taken; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
-            if (tiles && tiles->take(f, packets[p], lookup, i, std::uint32_t(p * 16 + std::size_t(i)), mode)) continue;
             const std::uint32_t tile = std::uint32_t(lookup.row[i]) * n + std::uint32_t(lookup.column[i]);
             bin_of[p * 16 + std::size_t(i)] = (lookup.psf[i] << kTileBits) | tile;
             ++first[lookup.psf[i] + 1];

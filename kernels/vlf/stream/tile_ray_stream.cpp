@@ -3,8 +3,6 @@
 #include "vlf/stream/tile_ray_stream.hpp"
 
 #include <algorithm>
-#include <bit>
-#include <cstddef>
 #include <utility>
 
 #include <immintrin.h>
@@ -58,47 +56,25 @@ void TileRayBins::begin(std::size_t psfs, std::uint32_t tiles_per_side, std::siz
     count_.assign(psfs, 0);
 }
 
-bool TileRayBins::take(const VisibilityField::Impl& f, const Packet16& p, const PacketLookup& l, int i,
-                       std::uint32_t slot, VlfMode mode) {
-    if (mode == VlfMode::exact && !((l.one_tile >> i) & 1u)) return false;
-    const std::uint32_t psf = l.psf[i];
-    const auto column = std::uint32_t(l.column[i]), row = std::uint32_t(l.row[i]);
-    const std::uint32_t bin = (psf * blocks_side_ + (row >> shift_)) * blocks_side_ + (column >> shift_);
-    if (last_[bin] == kNone || fill_[bin] == kChunk) {
-        link_[chunks_] = last_[bin];
-        last_[bin] = chunks_++;
-        fill_[bin] = 0;
+std::uint32_t TileRayBins::take(const VisibilityField::Impl& f, const Packet16& p, const PacketLookup& l,
+                                std::uint32_t slot0, VlfMode mode) {
+    const std::uint32_t lanes = mode == VlfMode::exact ? l.one_tile : l.valid;
+    TileRay* to[16];
+    for (std::uint32_t m = lanes; m; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        const std::uint32_t psf = l.psf[i];
+        const std::uint32_t bin = (psf * blocks_side_ + (std::uint32_t(l.row[i]) >> shift_)) * blocks_side_ +
+                                  (std::uint32_t(l.column[i]) >> shift_);
+        if (last_[bin] == kNone || fill_[bin] == kChunk) {
+            link_[chunks_] = last_[bin];
+            last_[bin] = chunks_++;
+            fill_[bin] = 0;
+        }
+        to[i] = &pool_[std::size_t(last_[bin]) * kChunk + fill_[bin]++];
+        ++count_[psf];
     }
-    // The record stored by streaming stores, field by field, filling its line (the pool is far
-    // larger than the caches, and a plain store would first read the line it overwrites). Not built
-    // on the stack and copied: a 16-byte load of 4-byte stores cannot be forwarded and waits for
-    // them to reach the cache.
-    const float o[3] = {p.org_x[i], p.org_y[i], p.org_z[i]};
-    const std::int32_t kx = l.kx[i], ky = l.ky[i], kz = l.kz[i];
-    auto bits = [](float x) { return std::bit_cast<int>(x); };
-    const std::size_t at = std::size_t(last_[bin]) * kChunk + fill_[bin]++;
-    int* to = reinterpret_cast<int*>(&pool_[at]);
-    const int words[16] = {int(row * std::uint32_t(f.grid.n) + column),
-                           int(slot),
-                           bits(l.z0[i]),
-                           bits(l.z1[i]),
-                           int(l.footprint[i]),
-                           bits(o[kx]),
-                           bits(o[ky]),
-                           bits(o[kz]),
-                           bits(l.sx[i]),
-                           bits(l.sy[i]),
-                           bits(l.sz[i]),
-                           bits(p.tnear[i]),
-                           bits(p.tfar[i]),
-                           kx,
-                           ky,
-                           kz};
-    static_assert(offsetof(TileRay, footprint) == 16 && offsetof(TileRay, sx) == 32 && offsetof(TileRay, tfar) == 48 &&
-                  offsetof(TileRay, kz) == 60 && sizeof(TileRay) == 64);
-    for (int k = 0; k < 16; ++k) _mm_stream_si32(to + k, words[k]);
-    ++count_[psf];
-    return true;
+    f.simd->store_tile_rays(l, p, lanes, std::uint32_t(f.grid.n), slot0, to);
+    return lanes;
 }
 
 void TileRayBins::trace(const VisibilityField::Impl& f, std::span<std::uint32_t> occluded) {

@@ -37,10 +37,10 @@ public:
     // Empties the bins, for a stream of at most `rays` rays over `psfs` PSFs of `tiles_per_side`^2
     // tiles.
     void begin(std::size_t psfs, std::uint32_t tiles_per_side, std::size_t rays);
-    // Lane i of a looked-up packet (valid in l), slot its place in the stream: true if kept (its
-    // segment lies in its first tile; in mode fast, always).
-    bool take(const VisibilityField::Impl& f, const Packet16& p, const PacketLookup& l, int i, std::uint32_t slot,
-              VlfMode mode);
+    // The lanes of a looked-up packet whose segment lies in their first tile (in mode fast, every
+    // valid lane), binned; slot0 + i is lane i's place in the stream. Returns the lanes taken.
+    std::uint32_t take(const VisibilityField::Impl& f, const Packet16& p, const PacketLookup& l, std::uint32_t slot0,
+                       VlfMode mode);
     // Traces the kept rays; sets bit slot % 16 of occluded[slot / 16] for each occluded one.
     void trace(const VisibilityField::Impl& f, std::span<std::uint32_t> occluded);
     // Bytes held (the pool and the bins' lists).
