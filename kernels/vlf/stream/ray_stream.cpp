@@ -7,6 +7,7 @@
 // The packets of a bin are traced as a pipeline (packet_start.hpp): the lookups of packet g + 2 and
 // the first blocks of packet g + 2 are requested from memory while packet g walks.
 #include <algorithm>
+#include <utility>
 #include <vector>
 
 #include "common/query_runner.hpp"
@@ -19,7 +20,6 @@ namespace {
 
 // A ray's PSF and first tile in one word (PSF < 2^12, tile < 2^20: l <= 2049, n <= 1024).
 constexpr std::uint32_t kTileBits = 20;
-constexpr std::uint32_t kNoBin = 0xFFFFFFFFu;
 
 struct BinnedRay {
     Ray ray;
@@ -110,7 +110,9 @@ void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, W
             vlf::TileRayBins* tiles = nullptr, VlfMode mode = VlfMode::exact) {
     const std::size_t psfs = f.psfs.size();
     const auto n = std::uint32_t(f.grid.n);
-    std::vector<std::uint32_t> bin_of(packets.size() * 16, kNoBin);
+    // The rays left to walk, as (slot, PSF << kTileBits | tile), in input order (a stream of one-tile
+    // rays leaves none: no array over the whole stream).
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> rest;
     std::vector<std::size_t> first(psfs + 1, 0);
     vlf::PacketLookup lookup;
     if (tiles) tiles->begin(psfs, n, packets.size() * 16);
@@ -120,7 +122,7 @@ void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, W
         for (std::uint32_t m = lookup.valid & ~taken; m; m &= m - 1) {
             const int i = __builtin_ctz(m);
             const std::uint32_t tile = std::uint32_t(lookup.row[i]) * n + std::uint32_t(lookup.column[i]);
-            bin_of[p * 16 + std::size_t(i)] = (lookup.psf[i] << kTileBits) | tile;
+            rest.emplace_back(std::uint32_t(p * 16 + std::size_t(i)), (lookup.psf[i] << kTileBits) | tile);
             ++first[lookup.psf[i] + 1];
         }
     }
@@ -128,14 +130,11 @@ void binned(const VisibilityField::Impl& f, std::span<const Packet16> packets, W
     std::vector<BinnedRay> rays(first[psfs]);
     {
         std::vector<std::size_t> next(first.begin(), first.end() - 1);
-        for (std::size_t slot = 0; slot < bin_of.size(); ++slot) {
-            const std::uint32_t b = bin_of[slot];
-            if (b == kNoBin) continue;
+        for (const auto& [slot, b] : rest)
             rays[next[b >> kTileBits]++] =
-                BinnedRay{packets[slot / 16].ray(int(slot % 16)), std::uint32_t(slot), b & ((1u << kTileBits) - 1u)};
-        }
+                BinnedRay{packets[slot / 16].ray(int(slot % 16)), slot, b & ((1u << kTileBits) - 1u)};
     }
-    bin_of = {};
+    rest = {};
     std::vector<BinnedRay> scratch;
     std::vector<std::uint32_t> counts;
     for (std::size_t i = 0; i < psfs; ++i) {
