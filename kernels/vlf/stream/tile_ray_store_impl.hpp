@@ -1,12 +1,13 @@
 #pragma once
 // The AVX-512 kernel of tile_ray_store.hpp; included only by kernels_avx512.cpp. The 16 words of
 // the 16 lanes' records are made as 16 registers (word w of every lane in register w), transposed
-// 16 x 16 in registers (32-bit unpacks, 64-bit unpacks, two rounds of 128-bit lane shuffles), and
-// each lane's record leaves as one 64-byte streaming store.
+// 16 x 16 in registers (simd/transpose16_impl.hpp), and each lane's record leaves as one 64-byte
+// streaming store.
 #include <cstdint>
 
 #include <immintrin.h>
 
+#include "simd/transpose16_impl.hpp"
 #include "vlf/stream/tile_ray_store.hpp"
 
 namespace beamtrace::vlf {
@@ -43,30 +44,10 @@ namespace {
         kx,
         ky,
         kz};
-    __m512i t[16];
-    for (int i = 0; i < 8; ++i) {
-        t[2 * i] = _mm512_unpacklo_epi32(v[2 * i], v[2 * i + 1]);
-        t[2 * i + 1] = _mm512_unpackhi_epi32(v[2 * i], v[2 * i + 1]);
-    }
-    // u[4 j + c], 128-bit lane L: words 4 j .. 4 j + 3 of lane 4 L + c.
-    for (int j = 0; j < 4; ++j) {
-        v[4 * j + 0] = _mm512_unpacklo_epi64(t[4 * j], t[4 * j + 2]);
-        v[4 * j + 1] = _mm512_unpackhi_epi64(t[4 * j], t[4 * j + 2]);
-        v[4 * j + 2] = _mm512_unpacklo_epi64(t[4 * j + 1], t[4 * j + 3]);
-        v[4 * j + 3] = _mm512_unpackhi_epi64(t[4 * j + 1], t[4 * j + 3]);
-    }
-    for (int c = 0; c < 4; ++c) {
-        const __m512i a = _mm512_shuffle_i32x4(v[c], v[4 + c], 0x44), b = _mm512_shuffle_i32x4(v[c], v[4 + c], 0xEE);
-        const __m512i e = _mm512_shuffle_i32x4(v[8 + c], v[12 + c], 0x44),
-                      d = _mm512_shuffle_i32x4(v[8 + c], v[12 + c], 0xEE);
-        t[0 + c] = _mm512_shuffle_i32x4(a, e, 0x88);
-        t[4 + c] = _mm512_shuffle_i32x4(a, e, 0xDD);
-        t[8 + c] = _mm512_shuffle_i32x4(b, d, 0x88);
-        t[12 + c] = _mm512_shuffle_i32x4(b, d, 0xDD);
-    }
+    simd::transpose16_epi32(v);
     for (std::uint32_t m = lanes; m; m &= m - 1) {
         const int i = __builtin_ctz(m);
-        _mm512_stream_si512(reinterpret_cast<__m512i*>(to[i]), t[i]);
+        _mm512_stream_si512(reinterpret_cast<__m512i*>(to[i]), v[i]);
     }
 }
 #endif
