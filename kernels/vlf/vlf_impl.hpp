@@ -70,8 +70,9 @@ struct VisibilityField::Impl {
     // Around a query (a no-op without a budget) and where a reader holds no tile (tile_cache.hpp).
     vlf::TileCache::ReadGuard reading() const { return vlf::TileCache::ReadGuard(*tile_cache); }
     void quiescent() const { tile_cache->quiescent(); }
-    // Under a memory budget an eighth of it goes to the buffers of binned streams (about 80 bytes
-    // a ray: bins, keys, sorted copies), which then take at most this many packets at a time.
+    // Under a memory budget an eighth of it goes to the buffers of binned streams (64-byte records
+    // and the bins' partly filled chunks: counted as 80 bytes a ray), which then take at most this
+    // many packets at a time.
     static constexpr std::size_t kStreamShare = 8, kStreamBytesPerRay = 80;
     std::size_t stream_packets() const {
         if (options.memory_budget_bytes == 0) return ~std::size_t(0) / 2;
