@@ -118,16 +118,16 @@ void nearest_directions(const LookupTables& t, const Packet16& p, int base, std:
 // tile: whether it is (first_tile_exit), the depths of its ends, its footprint (FootprintLattice).
 template <class Arch>
 void first_tiles(const LookupTables& t, const xsimd::batch<double, Arch>* co, const xsimd::batch<double, Arch>* cd,
-                 const xsimd::batch<double, Arch>& t0, const xsimd::batch<double, Arch>& t1,
-                 const xsimd::batch<double, Arch>* cell, int base, PacketLookup& out, double* one_tile,
-                 double* footprint) {
+                 const xsimd::batch<double, Arch>* inv_cd, const xsimd::batch<double, Arch>& t0,
+                 const xsimd::batch<double, Arch>& t1, const xsimd::batch<double, Arch>* cell, int base,
+                 PacketLookup& out, double* one_tile, double* footprint) {
     using BD = xsimd::batch<double, Arch>;
     const BD zero(0.0), one(1.0), inf(HUGE_VAL), radius(t.radius), h(t.h);
     // TileGrid::edge(i) = -radius + i * h.
     auto edge = [&](const BD& i) { return -radius + i * h; };
     BD exit[2];
     for (int a = 0; a < 2; ++a) {
-        const BD inv = one / cd[a];
+        const BD& inv = inv_cd[a];  // 1 / cd[a], the canonical ray's own (the same division)
         exit[a] = xsimd::select(cd[a] > zero, (edge(cell[a] + one) - co[a]) * inv,
                                 xsimd::select(cd[a] < zero, (edge(cell[a]) - co[a]) * inv, inf));
     }
@@ -218,9 +218,10 @@ void canonical_rays(const LookupTables& t, const double (*in)[16], const std::in
     cd[0].store_aligned(out.dx + base);
     cd[1].store_aligned(out.dy + base);
     cd[2].store_aligned(out.dz + base);
-    (BD(1.0) / cd[0]).store_aligned(out.inv_dx + base);
-    (BD(1.0) / cd[1]).store_aligned(out.inv_dy + base);
-    (BD(1.0) / cd[2]).store_aligned(out.inv_dz + base);
+    const BD inv_cd[3] = {BD(1.0) / cd[0], BD(1.0) / cd[1], BD(1.0) / cd[2]};
+    inv_cd[0].store_aligned(out.inv_dx + base);
+    inv_cd[1].store_aligned(out.inv_dy + base);
+    inv_cd[2].store_aligned(out.inv_dz + base);
     t0.store_aligned(out.t0 + base);
     t1.store_aligned(out.t1 + base);
     // Tile of the start point, as TileGrid::cell: floor((c + R) / h) clamped to [0, n - 1].
@@ -231,7 +232,7 @@ void canonical_rays(const LookupTables& t, const double (*in)[16], const std::in
         cell[axis] = xsimd::select(f < zero, zero, xsimd::select(f >= BD(double(t.tiles)), last, f));
         cell[axis].store_aligned((axis == 0 ? cell_x : cell_y) + base);
     }
-    if (first) first_tiles<Arch>(t, co, cd, t0, t1, cell, base, out, one_tile, footprint);
+    if (first) first_tiles<Arch>(t, co, cd, inv_cd, t0, t1, cell, base, out, one_tile, footprint);
 }
 
 template <class Arch>
