@@ -118,7 +118,8 @@ struct Affine3 {
 
 class VisibilityField {
 public:
-    // progress (optional) reports the eager build in [0, 1]. Throws beamtrace::Error for bad options.
+    // progress (optional) reports the eager build in [0, 1]. Throws beamtrace::Error for bad options
+    // and for a scene of more than 2^24 triangles (tile entries keep 3-byte triangle ids).
     using Progress = std::function<void(double)>;
     explicit VisibilityField(const Scene& scene, const VlfOptions& options = {}, const Progress& progress = {});
     ~VisibilityField();

@@ -28,16 +28,16 @@ std::uint32_t scan_footprints(const std::uint32_t* footprints, std::uint32_t cou
     return vlf::scan_avx512(footprints, count, ray, passing);
 }
 vlf::EntriesAnswer occlude_entries(const WatertightRay& ray, const Triangle* triangles, const std::uint32_t* footprints,
-                                   const std::uint32_t* ids, std::uint32_t count, std::uint32_t ray_footprint,
+                                   vlf::PackedIds ids, std::uint32_t count, std::uint32_t ray_footprint,
                                    bool distinct, std::uint32_t* hit) {
     return vlf::occlude_entries_avx512(ray, triangles, footprints, ids, count, ray_footprint, distinct, hit);
 }
 bool closest_entries(const WatertightRay& ray, const Triangle* triangles, const std::uint32_t* order,
-                     const std::uint32_t* footprints, const std::uint32_t* ids, std::uint32_t count,
+                     const std::uint32_t* footprints, vlf::PackedIds ids, std::uint32_t count,
                      std::uint32_t ray_footprint, vlf::TestedIds& tested, Hit& best) {
     return vlf::closest_entries_avx512(ray, triangles, order, footprints, ids, count, ray_footprint, tested, best);
 }
-std::uint32_t batch_candidates(const std::uint32_t* groups, const std::uint32_t* footprints, const std::uint32_t* ids,
+std::uint32_t batch_candidates(const std::uint32_t* groups, const std::uint32_t* footprints, vlf::PackedIds ids,
                                std::uint32_t first, std::uint32_t count, std::uint32_t ray_footprint, bool distinct,
                                std::uint32_t lane, std::uint32_t* out_ids, std::uint32_t* out_lanes) {
     return vlf::batch_candidates_avx512(groups, footprints, ids, first, count, ray_footprint, distinct, lane, out_ids,

@@ -11,6 +11,7 @@
 #include "common/ray_validity.hpp"
 #include "vlf/directions/direction_set_impl.hpp"
 #include "vlf/query/field_query.hpp"
+#include "vlf/build/packed_ids.hpp"
 #include "vlf/build/spatial_order.hpp"
 #include "vlf/build/tile_cache.hpp"
 #include "vlf/stream/tile_ray_stream.hpp"
@@ -50,6 +51,9 @@ VisibilityField::Impl::Impl(const Scene& scene, const VlfOptions& o)
     grid = vlf::TileGrid::around(bounds, o.tiles);
     world_box = vlf::WorldBox::around(bounds, grid.pad);
     const std::size_t count = scene.triangle_count();
+    if (count > vlf::kMaxFieldTriangles)  // tile entries keep 3-byte ids (packed_ids.hpp)
+        throw Error("VLF fields hold at most " + std::to_string(vlf::kMaxFieldTriangles) + " triangles; the scene has " +
+                    std::to_string(count));
     caller_triangles.assign(scene.triangles().begin(), scene.triangles().end());
     order = vlf::spatial_order(caller_triangles, bounds);
     rank.resize(count);

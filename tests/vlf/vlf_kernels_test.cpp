@@ -22,6 +22,16 @@ using namespace beamtrace::vlf;
 
 namespace {
 
+// ids packed as a tile block holds them (packed_ids.hpp), in a vector of exactly the words they take.
+std::vector<std::uint32_t> packed(const std::vector<std::uint32_t>& ids) {
+    std::vector<std::uint32_t> words(PackedIds::words_of(ids.size()));
+    PackedIds::pack(ids.data(), ids.size(), words.data());
+    return words;
+}
+PackedIds view(const std::vector<std::uint32_t>& words) {
+    return PackedIds{reinterpret_cast<const std::uint8_t*>(words.data())};
+}
+
 std::vector<Isa> simd_isas() {
     std::vector<Isa> out;
     for (Isa isa : {Isa::sse42, Isa::avx2, Isa::avx512})
@@ -201,6 +211,25 @@ std::unique_ptr<VisibilityField::Impl> lookup_field(const Scene& scene) {
 
 }  // namespace
 
+// Packed ids (packed_ids.hpp) read back as they were written, every bit of 24, at every offset of
+// an exactly sized buffer (the sanitizer build catches a read past it), and the padding is zero.
+TEST(PackedIds, ReadBackWhatWasPacked) {
+    std::mt19937 rng(7);
+    for (std::size_t n : {1u, 2u, 3u, 4u, 5u, 15u, 16u, 17u, 100u, 1001u}) {
+        std::vector<std::uint32_t> ids(n);
+        for (std::size_t k = 0; k < n; ++k)
+            ids[k] = k % 3 == 0 ? std::uint32_t(kMaxFieldTriangles - 1 - k) : std::uint32_t(rng() % kMaxFieldTriangles);
+        const std::vector<std::uint32_t> words = packed(ids);
+        ASSERT_EQ(words.size() * 4, ((3 * n + 1) + 3) / 4 * 4);
+        const PackedIds p = view(words);
+        for (std::size_t k = 0; k < n; ++k) {
+            ASSERT_EQ(p[k], ids[k]) << "n " << n << " k " << k;
+            ASSERT_EQ((p + k)[0], ids[k]);
+        }
+        for (std::size_t b = 3 * n; b < 4 * words.size(); ++b) ASSERT_EQ(p.bytes[b], 0u);
+    }
+}
+
 TEST(VlfKernels, PacketLookupEqualsTheSingleRaySetUpBitForBit) {
     const Scene scene = test::random_soup(300, 91);
     const std::unique_ptr<VisibilityField::Impl> field = lookup_field(scene);
@@ -284,8 +313,9 @@ TEST(VlfKernels, EntryOcclusionEqualsScalar) {
                          size = double(rng() % 3 == 0 ? 255 : rng() % 40);
             const std::uint32_t fp = lattice.ray(x, std::min(255.0, x + size), y, std::min(255.0, y + size));
             std::uint32_t a = kNoHit, b = kNoHit;
-            const EntriesAnswer ea = scalar(ray, tris.data(), footprints.data(), ids.data(), count, fp, distinct, &a);
-            const EntriesAnswer eb = simd(ray, tris.data(), footprints.data(), ids.data(), count, fp, distinct, &b);
+            const std::vector<std::uint32_t> words = packed(ids);
+            const EntriesAnswer ea = scalar(ray, tris.data(), footprints.data(), view(words), count, fp, distinct, &a);
+            const EntriesAnswer eb = simd(ray, tris.data(), footprints.data(), view(words), count, fp, distinct, &b);
             ASSERT_EQ(int(ea), int(eb)) << "trial " << trial;
             if (ea == EntriesAnswer::hit) {
                 ASSERT_EQ(a, b) << "trial " << trial;
@@ -316,7 +346,7 @@ TEST(VlfKernels, EntryOcclusionReferenceIsTheFootprintFilteredAnyHit) {
         for (std::uint32_t k = 0; k < count; ++k) ids[k] = std::uint32_t(rng() % tris.size());
         std::uint32_t hit = kNoHit;
         const EntriesAnswer a =
-            occlude_entries_scalar(ray, tris.data(), footprints.data(), ids.data(), count, 0xFFFFFFFFu, false, &hit);
+            occlude_entries_scalar(ray, tris.data(), footprints.data(), view(packed(ids)), count, 0xFFFFFFFFu, false, &hit);
         std::vector<std::uint32_t> distinct;
         bool expected = false;
         std::uint32_t first = kNoHit;
@@ -391,9 +421,10 @@ TEST(VlfKernels, EntryClosestHitEqualsScalar) {
             }
             const std::uint32_t before = best_a.triangle;
             TestedIds ta{list_a, listed, room}, tb{list_b, listed, room};
-            const bool da = closest_entries_scalar(ray, tris.data(), order.data(), footprints.data(), ids.data(), count,
+            const std::vector<std::uint32_t> words = packed(ids);
+            const bool da = closest_entries_scalar(ray, tris.data(), order.data(), footprints.data(), view(words), count,
                                                    fp, ta, best_a);
-            const bool db = simd(ray, tris.data(), order.data(), footprints.data(), ids.data(), count, fp, tb, best_b);
+            const bool db = simd(ray, tris.data(), order.data(), footprints.data(), view(words), count, fp, tb, best_b);
             ASSERT_EQ(da, db) << "trial " << trial;
             ++compared;
             if (!da) {
@@ -432,7 +463,9 @@ TEST(VlfKernels, BatchCandidatesEqualScalar) {
             const bool distinct = trial % 2 == 0;
             std::vector<std::uint32_t> ids(entries), footprints(entries);
             for (std::uint32_t k = 0; k < entries; ++k) {
-                ids[k] = distinct ? std::uint32_t(trial * 1000 + k) : std::uint32_t(rng() % 12);
+                // Ids of all 24 bits (the candidates never touch triangles): odd multiples keep them distinct.
+                ids[k] = distinct ? std::uint32_t((trial * 1000 + k) * 4099u % kMaxFieldTriangles)
+                                  : std::uint32_t(rng() % 12 * 1398101u);
                 // Clustered: entries of one group near one another (as the builder orders them).
                 const std::uint32_t cx = (trial % 3 == 0) ? rng() % 256 : (k / 16 * 37) % 240;
                 const std::uint32_t x0 = std::min<std::uint32_t>(255, cx + rng() % 16),
@@ -457,10 +490,11 @@ TEST(VlfKernels, BatchCandidatesEqualScalar) {
             const std::uint32_t lane = std::uint32_t(rng() % 16);
             std::vector<std::uint32_t> ia(count + 16), la(count + 16), ib(count + 16), lb(count + 16);
             const std::uint32_t* g = trial % 4 == 1 ? nullptr : groups.data();  // a tile without groups
+            const std::vector<std::uint32_t> words = packed(ids);
             const std::uint32_t na =
-                scalar(g, footprints.data(), ids.data(), first, count, fp, distinct, lane, ia.data(), la.data());
+                scalar(g, footprints.data(), view(words), first, count, fp, distinct, lane, ia.data(), la.data());
             const std::uint32_t nb =
-                simd(g, footprints.data(), ids.data(), first, count, fp, distinct, lane, ib.data(), lb.data());
+                simd(g, footprints.data(), view(words), first, count, fp, distinct, lane, ib.data(), lb.data());
             ASSERT_EQ(na, nb) << "trial " << trial;
             for (std::uint32_t k = 0; k < na; ++k) {
                 ASSERT_EQ(ia[k], ib[k]) << "trial " << trial << " pair " << k;

@@ -83,6 +83,22 @@ TEST(VlfOptions, Validation) {
     EXPECT_NO_THROW(VisibilityField(s, opts(9, 1, 0)));
 }
 
+// Tile entries keep 3-byte ids (kernels/vlf/build/packed_ids.hpp): a field refuses a scene of more
+// than 2^24 triangles with an error that says so, before it allocates anything for them.
+TEST(VisibilityField, RefusesMoreTrianglesThanItsIdsHold) {
+    const std::vector<Float3> vertices{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    std::vector<std::uint32_t> indices(3 * ((std::size_t(1) << 24) + 1));
+    for (std::size_t k = 0; k < indices.size(); ++k) indices[k] = std::uint32_t(k % 3);
+    const Scene scene(vertices, indices);
+    indices = {};
+    try {
+        VisibilityField field(scene, VlfOptions{});
+        FAIL() << "a field of 2^24 + 1 triangles was built";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("at most 16777216 triangles"), std::string::npos) << e.what();
+    }
+}
+
 TEST(VisibilityField, RandomSoupEqualsBruteForce) {
     const Scene s = test::random_soup(2000, 11);
     for (Settings st :

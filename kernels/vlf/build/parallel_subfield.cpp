@@ -207,7 +207,8 @@ void ParallelSubfield::tile_ids(std::uint32_t tile, std::vector<std::uint32_t>& 
     const Slot ref = tiles_[tile];
     if (ref.leaves == 0) return;
     const TileBspView v{pool_.data() + ref.offset, ref.leaves};
-    out.assign(v.ids(), v.ids() + v.entries());
+    const PackedIds ids = v.ids();
+    for (std::uint32_t k = 0; k < v.entries(); ++k) out.push_back(ids[k]);
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
 }

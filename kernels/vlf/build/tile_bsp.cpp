@@ -48,7 +48,8 @@ std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vecto
     }
     const auto leaves = std::uint32_t(ends_.size());
     block.clear();
-    block.reserve(splits_.size() + ends_.size() + ids_.size() / TileBspView::kGroup + 1 + 2 * ids_.size());
+    block.reserve(splits_.size() + ends_.size() + ids_.size() / TileBspView::kGroup + 1 + ids_.size() +
+                  PackedIds::words_of(ids_.size()));
     for (float s : splits_) block.push_back(std::bit_cast<std::uint32_t>(s));
     block.insert(block.end(), ends_.begin(), ends_.end());
     for (std::size_t g = 0; grouped && g < footprints_.size(); g += TileBspView::kGroup) {
@@ -61,7 +62,9 @@ std::uint32_t TileBspBuilder::build(std::span<const DepthItem> items, std::vecto
         block.push_back(u);
     }
     block.insert(block.end(), footprints_.begin(), footprints_.end());
-    block.insert(block.end(), ids_.begin(), ids_.end());
+    const std::size_t at = block.size();
+    block.resize(at + PackedIds::words_of(ids_.size()));
+    PackedIds::pack(ids_.data(), ids_.size(), block.data() + at);
     return leaves;
 }
 

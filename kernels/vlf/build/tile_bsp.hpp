@@ -4,6 +4,8 @@
 // depth range overlaps. The leaves are stored flat, in depth order, in one block of 32-bit words:
 //
 //     [ split_0 .. split_{m-2} ]  [ end_0 .. end_{m-1} ]  [ groups ]  [ footprints ... ]  [ ids ... ]
+//                                                                                         3 bytes each
+//                                                                                         (packed_ids.hpp)
 //       float bits, ascending      leaf j holds entries end_{j-1} .. end_j - 1 (end_{-1} = 0);
 //                                  footprints[k] (tile_footprint.hpp) belongs to ids[k], and the
 //                                  footprints of a run of leaves are one run of memory for SIMD.
@@ -25,6 +27,8 @@
 #include <immintrin.h>
 #include <span>
 #include <vector>
+
+#include "vlf/build/packed_ids.hpp"
 
 namespace beamtrace::vlf {
 
@@ -55,7 +59,7 @@ struct TileBspView {
     // nullptr: the tile has no groups.
     const std::uint32_t* groups() const { return groups_count() ? block + (leaves - 1) + leaves : nullptr; }
     const std::uint32_t* footprints() const { return block + (leaves - 1) + leaves + groups_count(); }
-    const std::uint32_t* ids() const { return footprints() + entries(); }
+    PackedIds ids() const { return PackedIds{reinterpret_cast<const std::uint8_t*>(footprints() + entries())}; }
     // The leaf whose depth range holds z (the lower one when z is a split): the number of splits
     // below z. Up to kCountedSplits splits are compared with z four at a time and the ones below
     // counted: independent loads and compares, where a binary search waits for each load before the
@@ -69,7 +73,7 @@ struct TileBspView {
         const std::uint32_t splits = leaves - 1;
         if (splits <= kCountedSplits) {
             // A load may run past the last split into the leaf ends (masked off below): a block
-            // holds at least splits + 3 words after its first split (the ends, one footprint, one id).
+            // holds at least splits + 3 words after its first split (the ends, one footprint, one id's word).
             const __m128 q = _mm_set1_ps(zf);
             std::uint32_t below = 0;
             for (std::uint32_t k = 0; k < splits; k += 4) {
@@ -87,7 +91,9 @@ struct TileBspView {
         }
         return j;
     }
-    std::uint32_t words() const { return (leaves - 1) + leaves + groups_count() + 2 * entries(); }
+    std::uint32_t words() const {
+        return (leaves - 1) + leaves + groups_count() + entries() + std::uint32_t(PackedIds::words_of(entries()));
+    }
 };
 
 class TileBspBuilder {

@@ -32,7 +32,7 @@ struct TestedIds {
 
 // count entries (footprints[k], ids[k], ids distinct) against ray_footprint.
 using ClosestEntriesFn = bool (*)(const WatertightRay& ray, const Triangle* triangles, const std::uint32_t* order,
-                                  const std::uint32_t* footprints, const std::uint32_t* ids, std::uint32_t count,
+                                  const std::uint32_t* footprints, PackedIds ids, std::uint32_t count,
                                   std::uint32_t ray_footprint, TestedIds& tested, Hit& best);
 
 // A hit at t on triangle id beats best: nearer, or as near on a smaller order[id] (the caller's id).
@@ -41,7 +41,7 @@ inline bool nearer_hit(float t, std::uint32_t id, const Hit& best, const std::ui
 }
 
 inline bool closest_entries_scalar(const WatertightRay& ray, const Triangle* triangles, const std::uint32_t* order,
-                                   const std::uint32_t* footprints, const std::uint32_t* ids, std::uint32_t count,
+                                   const std::uint32_t* footprints, PackedIds ids, std::uint32_t count,
                                    std::uint32_t ray_footprint, TestedIds& tested, Hit& best) {
     std::uint32_t candidates[kEntryCandidates];
     std::uint32_t n = 0, fresh = 0;

@@ -10,6 +10,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "common/triangle_kernels_impl.hpp"
+#include "vlf/build/packed_ids_impl.hpp"
 #include "vlf/query/corner_load_impl.hpp"
 #include "vlf/query/entry_closest_hit.hpp"
 
@@ -19,7 +20,7 @@ namespace {
 #if defined(__AVX512BW__)
 [[maybe_unused]] bool closest_entries_avx512(const WatertightRay& ray, const Triangle* triangles,
                                              const std::uint32_t* order, const std::uint32_t* footprints,
-                                             const std::uint32_t* ids, std::uint32_t count, std::uint32_t ray_footprint,
+                                             PackedIds ids, std::uint32_t count, std::uint32_t ray_footprint,
                                              TestedIds& tested, Hit& best) {
     using Arch = xsimd::avx512bw;
     using B = xsimd::batch<float, Arch>;
@@ -31,7 +32,7 @@ namespace {
         const __m512i f = _mm512_maskz_loadu_epi32(live, footprints + k);
         const __mmask16 pass = _mm512_mask_cmpeq_epi32_mask(live, _mm512_max_epu8(f, r), r);
         if (pass == 0) continue;
-        _mm512_storeu_si512(candidates + n, _mm512_maskz_compress_epi32(pass, _mm512_maskz_loadu_epi32(live, ids + k)));
+        _mm512_storeu_si512(candidates + n, _mm512_maskz_compress_epi32(pass, load_packed_ids(ids + k, pass)));
         n += std::uint32_t(__builtin_popcount(pass));
         if (n > kEntryCandidates) return false;
     }

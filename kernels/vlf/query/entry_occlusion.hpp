@@ -14,6 +14,7 @@
 #include "beamtrace/scene.hpp"
 #include "common/triangle_reference.hpp"
 #include "common/watertight_ray.hpp"
+#include "vlf/build/packed_ids.hpp"
 #include "vlf/query/tile_footprint.hpp"
 
 namespace beamtrace::vlf {
@@ -24,12 +25,12 @@ inline constexpr std::uint32_t kEntryCandidates = 16;
 // count entries (footprints[k], ids[k]) against ray_footprint; *hit = the first id hit. distinct:
 // the caller knows the ids are distinct (entries of one leaf), so no repeats are looked for.
 using OccludeEntriesFn = EntriesAnswer (*)(const WatertightRay& ray, const Triangle* triangles,
-                                           const std::uint32_t* footprints, const std::uint32_t* ids,
+                                           const std::uint32_t* footprints, PackedIds ids,
                                            std::uint32_t count, std::uint32_t ray_footprint, bool distinct,
                                            std::uint32_t* hit);
 
 inline EntriesAnswer occlude_entries_scalar(const WatertightRay& ray, const Triangle* triangles,
-                                            const std::uint32_t* footprints, const std::uint32_t* ids,
+                                            const std::uint32_t* footprints, PackedIds ids,
                                             std::uint32_t count, std::uint32_t ray_footprint, bool distinct,
                                             std::uint32_t* hit) {
     std::uint32_t candidates[kEntryCandidates];

@@ -11,6 +11,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "common/triangle_kernels_impl.hpp"
+#include "vlf/build/packed_ids_impl.hpp"
 #include "vlf/query/corner_load_impl.hpp"
 #include "vlf/query/entry_occlusion.hpp"
 
@@ -19,7 +20,7 @@ namespace {
 
 #if defined(__AVX512BW__) && defined(__AVX512CD__)
 [[maybe_unused]] EntriesAnswer occlude_entries_avx512(const WatertightRay& ray, const Triangle* triangles,
-                                                      const std::uint32_t* footprints, const std::uint32_t* ids,
+                                                      const std::uint32_t* footprints, PackedIds ids,
                                                       std::uint32_t count, std::uint32_t ray_footprint, bool distinct,
                                                       std::uint32_t* hit) {
     using Arch = xsimd::avx512bw;
@@ -32,7 +33,7 @@ namespace {
         const __m512i f = _mm512_maskz_loadu_epi32(live, footprints + k);
         const __mmask16 pass = _mm512_mask_cmpeq_epi32_mask(live, _mm512_max_epu8(f, r), r);
         if (pass == 0) continue;
-        const __m512i v = _mm512_maskz_compress_epi32(pass, _mm512_maskz_loadu_epi32(live, ids + k));
+        const __m512i v = _mm512_maskz_compress_epi32(pass, load_packed_ids(ids + k, pass));
         _mm512_storeu_si512(candidates + n, v);
         n += std::uint32_t(__builtin_popcount(pass));
         // More than kEntryCandidates passing entries: repeats may still bring the distinct ids

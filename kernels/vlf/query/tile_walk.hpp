@@ -195,7 +195,7 @@ private:
         const std::uint32_t first = bsp.begin(j0), count = bsp.end(j1) - first;
         if constexpr (kCount) counters_->vlf.entries += count;
         if (j1 > j0) distinct_ = false;  // a straddling triangle appears once per leaf
-        const std::uint32_t* ids = bsp.ids();
+        const PackedIds ids = bsp.ids();
         const std::uint32_t* footprints = bsp.footprints();
         const Triangle* batch[8];
         std::uint32_t batch_ids[8];

@@ -22,6 +22,7 @@
 #include "beamtrace/scene.hpp"
 #include "common/triangle_reference.hpp"
 #include "common/watertight_ray.hpp"
+#include "vlf/build/packed_ids.hpp"
 #include "vlf/query/tile_footprint.hpp"
 
 namespace beamtrace::vlf {
@@ -83,12 +84,12 @@ struct alignas(64) TileRayBatch {
 inline constexpr std::uint32_t kDirectGroups = 8;
 
 using BatchCandidatesFn = std::uint32_t (*)(const std::uint32_t* groups, const std::uint32_t* footprints,
-                                            const std::uint32_t* ids, std::uint32_t first, std::uint32_t count,
+                                            PackedIds ids, std::uint32_t first, std::uint32_t count,
                                             std::uint32_t ray_footprint, bool distinct, std::uint32_t lane,
                                             std::uint32_t* out_ids, std::uint32_t* out_lanes);
 
 inline std::uint32_t batch_candidates_scalar(const std::uint32_t* groups, const std::uint32_t* footprints,
-                                             const std::uint32_t* ids, std::uint32_t first, std::uint32_t count,
+                                             PackedIds ids, std::uint32_t first, std::uint32_t count,
                                              std::uint32_t ray_footprint, bool distinct, std::uint32_t lane,
                                              std::uint32_t* out_ids, std::uint32_t* out_lanes) {
     std::uint32_t n = 0;

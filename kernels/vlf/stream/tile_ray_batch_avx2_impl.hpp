@@ -37,7 +37,7 @@ namespace {
 }
 
 [[maybe_unused]] std::uint32_t batch_candidates_avx2(const std::uint32_t* groups, const std::uint32_t* footprints,
-                                                     const std::uint32_t* ids, std::uint32_t first, std::uint32_t count,
+                                                     PackedIds ids, std::uint32_t first, std::uint32_t count,
                                                      std::uint32_t ray_footprint, bool distinct, std::uint32_t lane,
                                                      std::uint32_t* out_ids, std::uint32_t* out_lanes) {
     const __m256i r = _mm256_set1_epi32(int(ray_footprint));

@@ -13,6 +13,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "common/triangle_kernels_impl.hpp"
+#include "vlf/build/packed_ids_impl.hpp"
 #include "vlf/stream/tile_ray_batch.hpp"
 
 namespace beamtrace::vlf {
@@ -20,7 +21,7 @@ namespace {
 
 #if defined(__AVX512BW__) && defined(__AVX512CD__)
 [[maybe_unused]] std::uint32_t batch_candidates_avx512(const std::uint32_t* groups, const std::uint32_t* footprints,
-                                                       const std::uint32_t* ids, std::uint32_t first,
+                                                       PackedIds ids, std::uint32_t first,
                                                        std::uint32_t count, std::uint32_t ray_footprint, bool distinct,
                                                        std::uint32_t lane, std::uint32_t* out_ids,
                                                        std::uint32_t* out_lanes) {
@@ -33,7 +34,7 @@ namespace {
         const __m512i f = _mm512_maskz_loadu_epi32(live, footprints + at);
         const __mmask16 pass = _mm512_mask_cmpeq_epi32_mask(live, _mm512_max_epu8(f, r), r);
         if (pass == 0) return;
-        __m512i v = _mm512_maskz_compress_epi32(pass, _mm512_maskz_loadu_epi32(pass, ids + at));
+        __m512i v = _mm512_maskz_compress_epi32(pass, load_packed_ids(ids + at, pass));
         std::uint32_t found = std::uint32_t(__builtin_popcount(pass));
         if (!distinct && found > 1) {
             const __mmask16 valid = __mmask16((1u << found) - 1u);

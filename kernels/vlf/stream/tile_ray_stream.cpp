@@ -134,7 +134,7 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
         TileRayBatch batch;
         const std::uint32_t* groups[16];
         const std::uint32_t* footprints[16];
-        const std::uint32_t* ids[16];
+        PackedIds ids[16];
         std::uint32_t first[16], count[16];
         bool distinct[16];
         std::uint32_t pairs = 0;
@@ -168,11 +168,9 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
             const std::uint32_t g0 = e0 / 16, g1 = (e0 + count + 15) / 16;
             if (s.groups[lane] == nullptr || g1 - g0 <= kDirectGroups) {
                 const char* a = reinterpret_cast<const char*>(s.footprints[lane] + e0);
-                const char* c = reinterpret_cast<const char*>(s.ids[lane] + e0);
-                for (std::uint32_t k = 0; k < 4 * count + 63; k += 64) {
-                    _mm_prefetch(a + k, _MM_HINT_T0);
-                    _mm_prefetch(c + k, _MM_HINT_T0);
-                }
+                const char* c = reinterpret_cast<const char*>((s.ids[lane] + e0).bytes);
+                for (std::uint32_t k = 0; k < 4 * count + 63; k += 64) _mm_prefetch(a + k, _MM_HINT_T0);
+                for (std::uint32_t k = 0; k < 3 * count + 63; k += 64) _mm_prefetch(c + k, _MM_HINT_T0);
             } else {
                 const char* a = reinterpret_cast<const char*>(s.groups[lane] + g0);
                 for (std::uint32_t k = 0; k < 4 * (g1 - g0) + 63; k += 64) _mm_prefetch(a + k, _MM_HINT_T0);
@@ -195,7 +193,9 @@ void TileRayBins::trace_psf(const VisibilityField::Impl& f, const ParallelSubfie
             for (std::uint32_t k = 0; k < n; ++k) {
                 const std::uint32_t g = g0 + passing[k];
                 _mm_prefetch(reinterpret_cast<const char*>(s.footprints[lane] + 16 * g), _MM_HINT_T0);
-                _mm_prefetch(reinterpret_cast<const char*>(s.ids[lane] + 16 * g), _MM_HINT_T0);
+                const char* c = reinterpret_cast<const char*>((s.ids[lane] + 16 * g).bytes);
+                _mm_prefetch(c, _MM_HINT_T0);
+                _mm_prefetch(c + 47, _MM_HINT_T0);
             }
         }
     };
