@@ -3,7 +3,9 @@
 // by the AVX-512 kernels. The bytes of the lanes from the lowest to the highest set bit of `live`
 // are loaded (masked: nothing beyond them is touched), a dword permute gives each 128-bit lane the
 // 12 bytes of its four ids, and a byte shuffle spreads them to one id a dword. Lanes outside
-// `live` are zero, as a masked 32-bit load leaves them.
+// `live` are zero, as a masked 32-bit load leaves them. The kernels pass the lanes of entries that
+// exist (known before the footprints are compared), not the passing ones, so that the mask, the
+// load and the shuffles wait for nothing; the compress by the passing lanes comes after.
 #include <cstdint>
 
 #include <immintrin.h>

@@ -32,7 +32,7 @@ namespace {
         const __m512i f = _mm512_maskz_loadu_epi32(live, footprints + k);
         const __mmask16 pass = _mm512_mask_cmpeq_epi32_mask(live, _mm512_max_epu8(f, r), r);
         if (pass == 0) continue;
-        _mm512_storeu_si512(candidates + n, _mm512_maskz_compress_epi32(pass, load_packed_ids(ids + k, pass)));
+        _mm512_storeu_si512(candidates + n, _mm512_maskz_compress_epi32(pass, load_packed_ids(ids + k, live)));
         n += std::uint32_t(__builtin_popcount(pass));
         if (n > kEntryCandidates) return false;
     }

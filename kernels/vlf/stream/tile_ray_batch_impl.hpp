@@ -34,7 +34,7 @@ namespace {
         const __m512i f = _mm512_maskz_loadu_epi32(live, footprints + at);
         const __mmask16 pass = _mm512_mask_cmpeq_epi32_mask(live, _mm512_max_epu8(f, r), r);
         if (pass == 0) return;
-        __m512i v = _mm512_maskz_compress_epi32(pass, load_packed_ids(ids + at, pass));
+        __m512i v = _mm512_maskz_compress_epi32(pass, load_packed_ids(ids + at, live));
         std::uint32_t found = std::uint32_t(__builtin_popcount(pass));
         if (!distinct && found > 1) {
             const __mmask16 valid = __mmask16((1u << found) - 1u);
