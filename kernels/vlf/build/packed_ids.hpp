@@ -6,8 +6,8 @@
 // entries").
 //
 // Reading id k loads the 4 bytes from 3k and drops the top one, so the id bytes of a block are
-// followed by at least one more byte (TileBspView::id_words). SIMD kernels load 16 (AVX-512) or 8
-// (AVX2) ids at once (packed_ids_impl.hpp).
+// followed by at least one more byte (words_of counts it). The AVX-512 kernels load 16 ids at once
+// (packed_ids_impl.hpp); the others read them one at a time.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -26,8 +26,7 @@ struct PackedIds {
     }
     PackedIds operator+(std::size_t k) const { return PackedIds{bytes + 3 * k}; }
 
-    // Bytes of `entries` ids, and the 32-bit words that hold them with the byte read past the last.
-    static constexpr std::size_t bytes_of(std::size_t entries) { return 3 * entries; }
+    // The 32-bit words that hold `entries` ids and the byte read past the last.
     static constexpr std::size_t words_of(std::size_t entries) { return (3 * entries + 1 + 3) / 4; }
     // Writes ids (each < 2^24) packed into `out` (room for words_of(n) words; the padding is zeroed).
     static void pack(const std::uint32_t* ids, std::size_t n, std::uint32_t* out) {
