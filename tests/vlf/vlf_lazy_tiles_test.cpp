@@ -238,9 +238,10 @@ static void budgeted_case(const SceneCase& c) {
     const VisibilityField bounded(source.scene, budgeted);
     for (int pass = 0; pass < 2; ++pass) trace_all(bounded, ws);
     const VlfStats s = bounded.stats();
-    std::printf("[ budget ] %s: budget %zu, peak %zu (unbounded peak %zu), built %zu, evicted %zu, rebuild %.3f s\n",
-                c.spec.c_str(), budgeted.memory_budget_bytes, s.memory_peak_bytes, u.memory_peak_bytes, s.tiles_built,
-                s.tiles_evicted, s.rebuild_seconds);
+    std::printf("[ budget ] %s: budget %zu, peak %zu (unbounded peak %zu), stream bins %zu, built %zu, evicted %zu, "
+                "rebuild %.3f s\n",
+                c.spec.c_str(), budgeted.memory_budget_bytes, s.memory_peak_bytes, u.memory_peak_bytes, s.stream_bytes,
+                s.tiles_built, s.tiles_evicted, s.rebuild_seconds);
     EXPECT_GT(s.tiles_evicted, 0u);
     EXPECT_GT(s.tiles_built, s.tiles_resident);
     EXPECT_GT(s.rebuild_seconds, 0.0);
@@ -249,6 +250,11 @@ static void budgeted_case(const SceneCase& c) {
     // not yet freed): up to +15 % on room:7 at l = 3, whose rays cross dozens of dense tiles between
     // two of them under this tight a budget; within 1 % elsewhere.
     EXPECT_LE(s.memory_peak_bytes, budgeted.memory_budget_bytes + budgeted.memory_budget_bytes / 4);
+    // The budget holds the binned streams' buffers too (memory_peak_bytes leaves them to
+    // stream_bytes). Budgets this small (tens of MB) cannot spare an eighth for them, and a part of a
+    // stream is at least 1,024 packets (about 1.3 MB of bins a thread), so here they come on top of
+    // the tiles: 3-16 % over the budget with the tiles at their peak (room:7 at l = 3 the most).
+    EXPECT_LE(s.memory_peak_bytes + s.stream_bytes, budgeted.memory_budget_bytes + budgeted.memory_budget_bytes / 4);
 }
 
 TEST_P(VlfLazyTiles, UnderABudgetAnswersEqualTheEagerField) {
