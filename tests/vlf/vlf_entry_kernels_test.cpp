@@ -57,14 +57,9 @@ TEST(VlfKernels, EntryOcclusionEqualsScalar) {
             for (std::uint32_t k = 0; k < count; ++k) {
                 ids[k] = distinct ? std::uint32_t((trial * 7 + k * 13) % tris.size())  // distinct: count < 400 / 13
                                   : std::uint32_t(rng() % 24);                         // repeats likely
-                const std::uint32_t x0 = rng() % 256, y0 = rng() % 256;
-                const std::uint32_t x1 = x0 + rng() % (256 - x0), y1 = y0 + rng() % (256 - y0);
-                footprints[k] = x0 | (y0 << 8) | ((255 - x1) << 16) | ((255 - y1) << 24);
+                footprints[k] = random_triangle_footprint(rng);
             }
-            const FootprintLattice lattice{0.0, 0.0, 1.0};
-            const double x = double(rng() % 256), y = double(rng() % 256),
-                         size = double(rng() % 3 == 0 ? 255 : rng() % 40);
-            const std::uint32_t fp = lattice.ray(x, std::min(255.0, x + size), y, std::min(255.0, y + size));
+            const std::uint32_t fp = random_ray_footprint(rng, 40);
             std::uint32_t a = kNoHit, b = kNoHit;
             const std::vector<std::uint32_t> words = packed(ids);
             const EntriesAnswer ea = scalar(ray, tris.data(), footprints.data(), view(words), count, fp, distinct, &a);
@@ -149,14 +144,9 @@ TEST(VlfKernels, EntryClosestHitEqualsScalar) {
             const std::uint32_t start = std::uint32_t(rng() % tris.size());
             for (std::uint32_t k = 0; k < count; ++k) {  // distinct ids, as in one leaf
                 ids[k] = (start + k * 7) % std::uint32_t(tris.size());
-                const std::uint32_t x0 = rng() % 256, y0 = rng() % 256;
-                const std::uint32_t x1 = x0 + rng() % (256 - x0), y1 = y0 + rng() % (256 - y0);
-                footprints[k] = x0 | (y0 << 8) | ((255 - x1) << 16) | ((255 - y1) << 24);
+                footprints[k] = random_triangle_footprint(rng);
             }
-            const FootprintLattice lattice{0.0, 0.0, 1.0};
-            const double x = double(rng() % 256), y = double(rng() % 256),
-                         size = double(rng() % 3 == 0 ? 255 : rng() % 60);
-            const std::uint32_t fp = lattice.ray(x, std::min(255.0, x + size), y, std::min(255.0, y + size));
+            const std::uint32_t fp = random_ray_footprint(rng, 60);
             // A tested list holding some of these ids (and others), sometimes nearly full.
             std::uint32_t list_a[32 + 16], list_b[32 + 16];  // + 16: TestedIds
             const std::uint32_t room = 32, listed = std::uint32_t(rng() % (trial % 5 == 0 ? 32 : 6));

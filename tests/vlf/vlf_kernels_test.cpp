@@ -220,11 +220,7 @@ TEST(VlfKernels, PacketLookupNeverDropsARayThatGrazesTheBox) {
 TEST(VlfKernels, FootprintScanEqualsScalar) {
     std::mt19937 rng(93);
     std::vector<std::uint32_t> footprints(300);
-    for (std::uint32_t& f : footprints) {
-        const std::uint32_t x0 = rng() % 256, y0 = rng() % 256;
-        const std::uint32_t x1 = x0 + rng() % (256 - x0), y1 = y0 + rng() % (256 - y0);
-        f = x0 | (y0 << 8) | ((255 - x1) << 16) | ((255 - y1) << 24);
-    }
+    for (std::uint32_t& f : footprints) f = random_triangle_footprint(rng);
     const ScanFootprintsFn scalar = vlf_kernels(Isa::scalar).scan_footprints;
     for (Isa isa : simd_isas()) {
         SCOPED_TRACE(isa_name(isa));
@@ -279,10 +275,7 @@ TEST(VlfKernels, BatchCandidatesEqualScalar) {
                 }
             const std::uint32_t first = std::uint32_t(rng() % entries);
             const std::uint32_t count = std::uint32_t(rng() % (entries - first + 1));
-            const FootprintLattice lattice{0.0, 0.0, 1.0};
-            const double x = double(rng() % 256), y = double(rng() % 256),
-                         size = double(rng() % 3 == 0 ? 255 : rng() % 40);
-            const std::uint32_t fp = lattice.ray(x, std::min(255.0, x + size), y, std::min(255.0, y + size));
+            const std::uint32_t fp = random_ray_footprint(rng, 40);
             const std::uint32_t lane = std::uint32_t(rng() % 16);
             std::vector<std::uint32_t> ia(count + 16), la(count + 16), ib(count + 16), lb(count + 16);
             const std::uint32_t* g = trial % 4 == 1 ? nullptr : groups.data();  // a tile without groups
