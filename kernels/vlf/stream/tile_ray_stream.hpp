@@ -9,7 +9,7 @@
 // the caches while its rays are traced, in the order they came, with no sort and no second copy of
 // the rays. trace() then takes the bins PSF by PSF and traces each PSF's rays as a pipeline:
 //
-//   batch b + 9: the rays' records requested from memory;
+//   batch b + 10: the rays' records requested from memory (R = 3 batches before their entries);
 //   batch b + 7: the rays' tile entries requested;
 //   batch b + 5: the entries read, the heads of the tiles' blocks (splits, leaf ends) requested;
 //   batch b + 3: each ray's leaves found, their entries' footprints and ids requested (for a long
